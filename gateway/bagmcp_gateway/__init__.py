@@ -1,0 +1,1 @@
+"""bagmcp gateway: the single ingress (MCP endpoint, REST front) and the bagmcp command."""

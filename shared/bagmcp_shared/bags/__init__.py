@@ -1,0 +1,24 @@
+"""Opening and reading bags of every supported format through one interface."""
+
+from bagmcp_shared.bags.decoding import Decoder
+from bagmcp_shared.bags.models import (
+    BagFormat,
+    BagSummary,
+    Connection,
+    Encoding,
+    RawMessage,
+    TopicSummary,
+)
+from bagmcp_shared.bags.reader import BagReader, open_bag
+
+__all__ = [
+    "BagFormat",
+    "BagReader",
+    "BagSummary",
+    "Connection",
+    "Decoder",
+    "Encoding",
+    "RawMessage",
+    "TopicSummary",
+    "open_bag",
+]

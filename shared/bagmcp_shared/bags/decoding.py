@@ -1,0 +1,109 @@
+"""Turn raw payloads into message objects, using the definitions stored in the bag itself.
+
+Each message type is registered on its own, so one broken or missing definition makes only
+that type undecodable (with a reason) instead of failing the whole bag.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+
+from rosbags.typesys import Stores, get_types_from_idl, get_types_from_msg, get_typestore
+from rosbags.typesys.msg import normalize_msgtype
+from rosbags.typesys.store import Typestore
+
+from bagmcp_shared.bags.models import Connection, Encoding, RawMessage
+from bagmcp_shared.errors import DecodeError
+
+_IDL_SEPARATOR = "=" * 80 + "\n"
+
+
+def _types_from_definition(conn: Connection) -> dict[str, object]:
+    """Parse one connection's stored definition into rosbags' type dictionary."""
+    if conn.definition_format == "idl":
+        text = conn.definition
+        if text.startswith(f"{_IDL_SEPARATOR}IDL: "):
+            typs: dict[str, object] = {}
+            for part in text.split(_IDL_SEPARATOR)[1:]:
+                typs.update(get_types_from_idl(part.split("\n", 1)[1]))
+            return typs
+        return dict(get_types_from_idl(text))
+    return dict(get_types_from_msg(conn.definition, conn.msgtype))
+
+
+class Decoder:
+    """Decodes messages of a bag's connections; knows which types it can decode and why not."""
+
+    def __init__(self, connections: Iterable[Connection]) -> None:
+        self._stores: dict[str, Typestore] = {}
+        self._problems: dict[str, str] = {}
+        for conn in connections:
+            if conn.msgtype not in self._stores and conn.msgtype not in self._problems:
+                self._add(conn)
+
+    @property
+    def problems(self) -> dict[str, str]:
+        """Message types that cannot be decoded, with the reason for each."""
+        return dict(self._problems)
+
+    def typestore(self, msgtype: str) -> Typestore:
+        """The typestore that decodes ``msgtype`` (raises DecodeError when there is none)."""
+        store = self._stores.get(msgtype)
+        if store is None:
+            reason = self._problems.get(msgtype, "the type is not used in this bag")
+            raise DecodeError(f"cannot decode messages of type {msgtype}: {reason}")
+        return store
+
+    def decode(self, raw: RawMessage) -> object:
+        """Deserialize one raw message."""
+        conn = raw.connection
+        store = self.typestore(conn.msgtype)
+        try:
+            if conn.encoding is Encoding.ROS1:
+                return store.deserialize_ros1(raw.data, conn.msgtype)
+            return store.deserialize_cdr(raw.data, conn.msgtype)
+        except Exception as err:  # rosbags raises SerdeError, struct.error, IndexError...
+            raise DecodeError(
+                f"message of {conn.topic} ({conn.msgtype}) at {raw.log_time_ns} ns "
+                f"could not be decoded: {err}"
+            ) from err
+
+    def _add(self, conn: Connection) -> None:
+        if conn.definition.strip():
+            self._add_from_definition(conn)
+        else:
+            self._add_from_standard_types(conn)
+
+    def _add_from_definition(self, conn: Connection) -> None:
+        store = get_typestore(Stores.EMPTY)
+        try:
+            store.register(_types_from_definition(conn))  # type: ignore[arg-type]
+        except Exception as err:  # parser errors are of many kinds
+            first_line = str(err).strip().splitlines()[0] if str(err).strip() else type(err).__name__
+            self._problems[conn.msgtype] = f"its stored definition could not be parsed ({first_line})"
+            return
+        if conn.encoding is Encoding.ROS1 and conn.digest:
+            have = store.generate_msgdef(conn.msgtype)[1]
+            if have != conn.digest:
+                self._problems[conn.msgtype] = (
+                    f"its stored definition does not match its md5 ({have} != {conn.digest})"
+                )
+                return
+        self._stores[conn.msgtype] = store
+
+    def _add_from_standard_types(self, conn: Connection) -> None:
+        store = get_typestore(Stores.ROS1_NOETIC if conn.encoding is Encoding.ROS1 else Stores.LATEST)
+        msgtype = normalize_msgtype(conn.msgtype)
+        if msgtype not in store.fielddefs:
+            self._problems[conn.msgtype] = "the bag stores no definition and it is not a standard ROS type"
+            return
+        if (
+            conn.encoding is Encoding.ROS1
+            and conn.digest
+            and store.generate_msgdef(msgtype)[1] != conn.digest
+        ):
+            self._problems[conn.msgtype] = (
+                "the bag stores no definition and the standard type's md5 differs from the bag's"
+            )
+            return
+        self._stores[conn.msgtype] = store

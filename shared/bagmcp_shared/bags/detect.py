@@ -1,0 +1,42 @@
+"""Tell what kind of input a path is from its content, not only its name."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from bagmcp_shared.bags.models import BagFormat
+from bagmcp_shared.errors import BagError, EmptyFileError, UnsupportedFormatError
+
+_LEGACY = (
+    "a ROS bag in the legacy format 1.x (before 2010); "
+    "convert it to format 2.0 with ROS 1's `rosbag` tools first"
+)
+_MAGICS: tuple[tuple[bytes, BagFormat | str], ...] = (
+    (b"#ROSBAG V2.0", BagFormat.ROS1),
+    (b"\x89MCAP0\r\n", BagFormat.MCAP),
+    (b"SQLite format 3\x00", BagFormat.ROS2_SQLITE3),
+    (b"#ROSRECORD V1.", _LEGACY),
+    (b"ULog\x01\x12\x35", "a PX4 ULog flight log, not a ROS bag; convert it with pyulog's tools first"),
+    (b"\x28\xb5\x2f\xfd", "a zstd-compressed file; decompress it first"),
+    (b"PK\x03\x04", "a zip archive; unpack it (or upload it, which unpacks ROS 2 bag directories)"),
+)
+
+
+def sniff_file(path: Path) -> BagFormat:
+    """The bag format of a single file, from its first bytes."""
+    try:
+        with path.open("rb") as file:
+            head = file.read(16)
+    except OSError as err:
+        raise BagError(f"{path}: cannot be read ({err.strerror})") from err
+    if not head:
+        raise EmptyFileError(f"{path}: the file is empty (0 bytes)")
+    for magic, kind in _MAGICS:
+        if head.startswith(magic):
+            if isinstance(kind, BagFormat):
+                return kind
+            raise UnsupportedFormatError(f"{path}: this is {kind}")
+    raise UnsupportedFormatError(
+        f"{path}: not a ROS bag (unknown file signature {head[:8]!r}); bagmcp reads ROS 1 .bag, "
+        "ROS 2 .db3/.mcap bag directories and bare .mcap files"
+    )

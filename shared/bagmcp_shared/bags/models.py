@@ -1,0 +1,108 @@
+"""Plain data that describes a bag and its messages, independent of the on-disk format."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from enum import StrEnum
+from typing import NamedTuple
+
+
+class BagFormat(StrEnum):
+    """The container a bag was read from."""
+
+    ROS1 = "ros1"  # ROS 1 .bag (format 2.0; plain, bz2 or lz4 chunks)
+    ROS2_SQLITE3 = "ros2-sqlite3"  # ROS 2 bag directory or bare .db3 file(s)
+    ROS2_MCAP = "ros2-mcap"  # ROS 2 bag directory whose storage files are MCAP
+    MCAP = "mcap"  # a bare .mcap file (profile ros1 or ros2)
+
+
+class Encoding(StrEnum):
+    """How message payloads are serialized."""
+
+    ROS1 = "ros1"
+    CDR = "cdr"
+
+
+@dataclass(frozen=True)
+class Connection:
+    """One stream of messages: a topic with one type and one definition.
+
+    ``definition`` is the message definition stored in the bag ("" when the bag has none);
+    ``definition_format`` is "msg", "idl" or "" accordingly. ``metadata`` carries what a
+    writer needs to reproduce the stream (ROS 2 QoS profiles, ROS 1 latching, callerid).
+    """
+
+    id: int
+    topic: str
+    msgtype: str
+    encoding: Encoding
+    definition: str
+    definition_format: str
+    count: int
+    digest: str = ""
+    metadata: tuple[tuple[str, str], ...] = ()
+
+
+class RawMessage(NamedTuple):
+    """A serialized message as stored, with its log (receive) time."""
+
+    connection: Connection
+    log_time_ns: int
+    data: bytes
+
+
+@dataclass(frozen=True)
+class TopicSummary:
+    """Per-topic facts: type, message count and the log times of the first and last message."""
+
+    name: str
+    msgtype: str
+    count: int
+    first_ns: int | None
+    last_ns: int | None
+
+    @property
+    def rate_hz(self) -> float | None:
+        """Mean message rate over the topic's own span; None with fewer than two messages."""
+        if self.count < 2 or self.first_ns is None or self.last_ns is None:
+            return None
+        span_ns = self.last_ns - self.first_ns
+        return (self.count - 1) * 1e9 / span_ns if span_ns > 0 else None
+
+
+@dataclass(frozen=True)
+class BagSummary:
+    """What ``bagmcp info`` prints and the catalog stores about one bag."""
+
+    path: str
+    format: BagFormat
+    size_bytes: int
+    files: tuple[str, ...]
+    topics: tuple[TopicSummary, ...]
+    profile: str = ""
+    notes: tuple[str, ...] = field(default=())
+
+    @property
+    def message_count(self) -> int:
+        return sum(t.count for t in self.topics)
+
+    @property
+    def start_ns(self) -> int | None:
+        firsts = [t.first_ns for t in self.topics if t.first_ns is not None]
+        return min(firsts) if firsts else None
+
+    @property
+    def end_ns(self) -> int | None:
+        lasts = [t.last_ns for t in self.topics if t.last_ns is not None]
+        return max(lasts) if lasts else None
+
+    @property
+    def duration_s(self) -> float:
+        if self.start_ns is None or self.end_ns is None:
+            return 0.0
+        return (self.end_ns - self.start_ns) / 1e9
+
+    def topic(self, name: str) -> TopicSummary | None:
+        """The topic called ``name``; a leading slash is optional on either side."""
+        wanted = name.lstrip("/")
+        return next((t for t in self.topics if t.name.lstrip("/") == wanted), None)

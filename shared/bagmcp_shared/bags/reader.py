@@ -1,0 +1,155 @@
+"""``open_bag``: one interface over every supported input."""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Iterable, Iterator, Sequence
+from contextlib import ExitStack
+from pathlib import Path
+from types import TracebackType
+from typing import Self
+
+from bagmcp_shared.bags.decoding import Decoder
+from bagmcp_shared.bags.detect import sniff_file
+from bagmcp_shared.bags.mcap_source import McapSource
+from bagmcp_shared.bags.models import BagFormat, BagSummary, Connection, RawMessage, TopicSummary
+from bagmcp_shared.bags.ros1_source import Ros1Source
+from bagmcp_shared.bags.ros2_dir import open_directory, open_storage_file
+from bagmcp_shared.bags.source import MessageSource
+from bagmcp_shared.errors import BagError, TopicNotFoundError
+
+
+def _size(path: Path, files: Sequence[Path]) -> int:
+    return sum(f.stat().st_size for f in files) if path.is_dir() else path.stat().st_size
+
+
+class BagReader:
+    """An open bag: summary, raw messages by topic and time window, decoding."""
+
+    def __init__(
+        self, path: Path, source: MessageSource, fmt: BagFormat, files: Sequence[Path], stack: ExitStack
+    ) -> None:
+        self.path = path
+        self.format = fmt
+        self.files = tuple(files)
+        self._source = source
+        self._stack = stack
+        self._decoder: Decoder | None = None
+        self._summary: BagSummary | None = None
+
+    @property
+    def connections(self) -> Sequence[Connection]:
+        return self._source.connections
+
+    @property
+    def decoder(self) -> Decoder:
+        if self._decoder is None:
+            self._decoder = Decoder(self._source.connections)
+        return self._decoder
+
+    def summary(self) -> BagSummary:
+        """Topics with types, counts and first/last log times; computed once."""
+        if self._summary is None:
+            self._summary = self._summarize()
+        return self._summary
+
+    def _summarize(self) -> BagSummary:
+        topics: dict[str, TopicSummary] = {}
+        for conn in self._source.connections:
+            bounds = self._source.bounds(conn.id) if conn.count else None
+            known = topics.get(conn.topic)
+            first, last = bounds if bounds else (None, None)
+            if known is not None:
+                first = min((t for t in (known.first_ns, first) if t is not None), default=None)
+                last = max((t for t in (known.last_ns, last) if t is not None), default=None)
+            count = conn.count + (known.count if known else 0)
+            topics[conn.topic] = TopicSummary(conn.topic, conn.msgtype, count, first, last)
+        notes = list(self._source.notes)
+        notes += [f"{typ} cannot be decoded: {why}" for typ, why in sorted(self.decoder.problems.items())]
+        profile = getattr(self._source, "profile", "")
+        return BagSummary(
+            path=str(self.path),
+            format=self.format,
+            size_bytes=_size(self.path, self.files),
+            files=tuple(f.name for f in self.files),
+            topics=tuple(sorted(topics.values(), key=lambda t: t.name)),
+            profile=profile if isinstance(profile, str) else "",
+            notes=tuple(notes),
+        )
+
+    def topic_connections(self, topic: str) -> list[Connection]:
+        """Connections of ``topic`` (leading slash optional); unknown topics list valid ones."""
+        wanted = topic.lstrip("/")
+        found = [c for c in self._source.connections if c.topic.lstrip("/") == wanted]
+        if not found:
+            names = sorted({c.topic for c in self._source.connections})
+            raise TopicNotFoundError(
+                f"topic {topic!r} is not in {self.path.name}; topics: {', '.join(names) or '(none)'}"
+            )
+        return found
+
+    def messages(
+        self,
+        topics: Iterable[str] | None = None,
+        *,
+        start_ns: int | None = None,
+        stop_ns: int | None = None,
+    ) -> Iterator[RawMessage]:
+        """Raw messages of ``topics`` (all when None) with ``start_ns <= t < stop_ns``, time-ordered."""
+        if topics is None:
+            ids = [c.id for c in self._source.connections]
+        else:
+            ids = [c.id for t in topics for c in self.topic_connections(t)]
+        return self._source.messages(ids, start_ns=start_ns, stop_ns=stop_ns)
+
+    def decode(self, raw: RawMessage) -> object:
+        return self.decoder.decode(raw)
+
+    def close(self) -> None:
+        self._stack.close()
+
+    def __enter__(self) -> Self:
+        return self
+
+    def __exit__(
+        self, exc_type: type[BaseException] | None, exc: BaseException | None, tb: TracebackType | None
+    ) -> None:
+        self.close()
+
+
+def _open_source(
+    path: Path, stack: ExitStack, *, recover_truncated: bool
+) -> tuple[MessageSource, BagFormat, list[Path]]:
+    if path.is_dir():
+        return open_directory(path, stack, recover_truncated=recover_truncated)
+    kind = sniff_file(path)
+    source: MessageSource
+    if kind is BagFormat.ROS1:
+        source = Ros1Source(path)
+    elif kind is BagFormat.MCAP:
+        source = McapSource(path, recover_truncated=recover_truncated)
+    else:
+        source, kind = open_storage_file(path, recover_truncated=recover_truncated)
+    stack.callback(source.close)
+    return source, kind, [path]
+
+
+def open_bag(path: str | os.PathLike[str], *, recover_truncated: bool = False) -> BagReader:
+    """Open any supported bag: a ROS 1 .bag, a ROS 2 directory, a bare .db3 or .mcap file.
+
+    Raises a :class:`BagError` subclass with a readable message for anything unreadable.
+    ``recover_truncated`` accepts an MCAP cut in the middle of a record and keeps what precedes it.
+    """
+    bag_path = Path(path)
+    if not bag_path.exists():
+        raise BagError(f"{bag_path}: no such file or directory")
+    stack = ExitStack()
+    try:
+        source, fmt, files = _open_source(bag_path, stack, recover_truncated=recover_truncated)
+    except BagError:
+        stack.close()
+        raise
+    except (OSError, MemoryError, RecursionError) as err:
+        stack.close()
+        raise BagError(f"{bag_path}: cannot be read ({err})") from err
+    return BagReader(bag_path, source, fmt, files, stack)

@@ -1,0 +1,169 @@
+"""ROS 2 bag directories (and bare storage files): metadata.yaml, split files, compression."""
+
+from __future__ import annotations
+
+import re
+import tempfile
+from collections.abc import Collection, Iterator, Sequence
+from contextlib import ExitStack
+from pathlib import Path
+from typing import cast
+
+import yaml
+import zstandard
+
+from bagmcp_shared.bags.detect import sniff_file
+from bagmcp_shared.bags.mcap_source import McapSource
+from bagmcp_shared.bags.models import BagFormat, Connection, RawMessage
+from bagmcp_shared.bags.source import MergedSource, MessageSource
+from bagmcp_shared.bags.sqlite3_source import Sqlite3Source
+from bagmcp_shared.errors import DamagedBagError, UnsupportedFormatError
+
+_STORAGE_SUFFIXES = {".db3": BagFormat.ROS2_SQLITE3, ".mcap": BagFormat.ROS2_MCAP}
+
+
+def _natural_key(path: Path) -> tuple[str, int]:
+    match = re.search(r"(\d+)$", path.name.split(".")[0])
+    return (path.name[: match.start()] if match else path.name, int(match.group(1)) if match else -1)
+
+
+def _read_metadata(directory: Path) -> dict[str, object] | None:
+    path = directory / "metadata.yaml"
+    if not path.exists():
+        return None
+    try:
+        data = yaml.safe_load(path.read_text(encoding="utf-8"))
+        info = data["rosbag2_bagfile_information"]
+    except (yaml.YAMLError, KeyError, TypeError, UnicodeDecodeError) as err:
+        raise DamagedBagError(f"{path}: metadata.yaml is not valid rosbag2 metadata ({err})") from err
+    if not isinstance(info, dict):
+        raise DamagedBagError(f"{path}: metadata.yaml is not valid rosbag2 metadata")
+    return cast(dict[str, object], info)
+
+
+def _listed_files(directory: Path, info: dict[str, object]) -> list[Path]:
+    names = info.get("relative_file_paths") or []
+    if not isinstance(names, list):
+        raise DamagedBagError(f"{directory}/metadata.yaml: relative_file_paths is not a list")
+    files = [directory / Path(str(n)).name for n in names]
+    if missing := [f.name for f in files if not f.exists()]:
+        raise DamagedBagError(f"{directory}: storage files listed in metadata.yaml are missing: {missing}")
+    return files
+
+
+def _found_files(directory: Path) -> list[Path]:
+    files = [p for p in directory.iterdir() if p.suffix in _STORAGE_SUFFIXES and p.is_file()]
+    if not files:
+        raise UnsupportedFormatError(f"{directory}: no .db3 or .mcap storage files in this directory")
+    return sorted(files, key=_natural_key)
+
+
+def _declared_topics(info: dict[str, object]) -> dict[str, tuple[str, int]]:
+    """Topic name -> (serialization format, message count) as metadata.yaml declares them."""
+    declared: dict[str, tuple[str, int]] = {}
+    entries = info.get("topics_with_message_count")
+    for entry in entries if isinstance(entries, list) else []:
+        try:
+            meta = entry["topic_metadata"]
+            declared[str(meta["name"])] = (str(meta["serialization_format"]), int(entry["message_count"]))
+        except (KeyError, TypeError, ValueError):
+            continue
+    return declared
+
+
+def _disagreements(info: dict[str, object] | None, connections: Sequence[Connection]) -> list[str]:
+    """Notes where metadata.yaml contradicts the storage files (which are what is read)."""
+    if info is None:
+        return []
+    actual: dict[str, int] = {}
+    for conn in connections:
+        actual[conn.topic] = actual.get(conn.topic, 0) + conn.count
+    notes = []
+    for topic, (fmt, count) in sorted(_declared_topics(info).items()):
+        if fmt != "cdr":
+            notes.append(f"metadata.yaml declares serialization {fmt!r} for {topic}; the storage says cdr")
+        if topic in actual and actual[topic] != count:
+            notes.append(
+                f"metadata.yaml declares {count} messages on {topic}; the storage holds {actual[topic]}"
+            )
+    return notes
+
+
+def storage_files(directory: Path) -> tuple[list[Path], str, dict[str, object] | None]:
+    """The storage files of a bag directory in recording order, compression mode, metadata."""
+    info = _read_metadata(directory)
+    if info is None:
+        return _found_files(directory), "", None
+    mode = str(info.get("compression_mode") or "").lower()
+    fmt = str(info.get("compression_format") or "")
+    if mode in ("", "none"):
+        mode = ""
+    elif fmt != "zstd":
+        raise UnsupportedFormatError(f"{directory}: compression format {fmt!r} is not supported (zstd is)")
+    return _listed_files(directory, info), mode, info
+
+
+class _DecompressedMessages:
+    """Wraps a source whose payloads are zstd-compressed one by one (compression_mode: message)."""
+
+    def __init__(self, inner: MessageSource) -> None:
+        self._inner = inner
+        self._zstd = zstandard.ZstdDecompressor()
+
+    @property
+    def connections(self) -> Sequence[Connection]:
+        return self._inner.connections
+
+    @property
+    def notes(self) -> Sequence[str]:
+        return self._inner.notes
+
+    def bounds(self, connection_id: int) -> tuple[int, int] | None:
+        return self._inner.bounds(connection_id)
+
+    def messages(
+        self, connection_ids: Collection[int], *, start_ns: int | None, stop_ns: int | None
+    ) -> Iterator[RawMessage]:
+        for msg in self._inner.messages(connection_ids, start_ns=start_ns, stop_ns=stop_ns):
+            yield msg._replace(data=self._zstd.decompress(msg.data))
+
+    def close(self) -> None:
+        self._inner.close()
+
+
+def open_storage_file(path: Path, *, recover_truncated: bool) -> tuple[MessageSource, BagFormat]:
+    """One .db3 or .mcap storage file."""
+    kind = sniff_file(path)
+    if kind is BagFormat.ROS2_SQLITE3:
+        return Sqlite3Source(path), kind
+    if kind is BagFormat.MCAP:
+        return McapSource(path, recover_truncated=recover_truncated), kind
+    raise UnsupportedFormatError(f"{path}: a ROS 1 bag cannot be part of a ROS 2 bag directory")
+
+
+def _decompress_file(path: Path, into: Path) -> Path:
+    target = into / path.name.removesuffix(".zstd")
+    with path.open("rb") as src, target.open("wb") as dst:
+        zstandard.ZstdDecompressor().copy_stream(src, dst)
+    return target
+
+
+def open_directory(
+    directory: Path, stack: ExitStack, *, recover_truncated: bool
+) -> tuple[MessageSource, BagFormat, list[Path]]:
+    """All storage files of a ROS 2 bag directory as one source."""
+    files, mode, info = storage_files(directory)
+    paths = files
+    if mode == "file":
+        tmp = Path(stack.enter_context(tempfile.TemporaryDirectory(prefix="bagmcp-zstd-")))
+        paths = [_decompress_file(f, tmp) for f in files]
+    sources: list[MessageSource] = []
+    kinds: set[BagFormat] = set()
+    for path in paths:
+        source, kind = open_storage_file(path, recover_truncated=recover_truncated)
+        stack.callback(source.close)
+        sources.append(_DecompressedMessages(source) if mode == "message" else source)
+        kinds.add(kind)
+    fmt = BagFormat.ROS2_SQLITE3 if kinds == {BagFormat.ROS2_SQLITE3} else BagFormat.ROS2_MCAP
+    conns = [c for s in sources for c in s.connections]
+    return MergedSource(sources, notes=_disagreements(info, conns)), fmt, files

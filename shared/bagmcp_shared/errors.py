@@ -1,0 +1,55 @@
+"""One exception root for the shared library; every failure a user can see is one of these."""
+
+from __future__ import annotations
+
+
+class BagmcpError(Exception):
+    """Root of every error raised on purpose by bagmcp code.
+
+    ``str(err)`` is a complete, human-readable sentence that says what went wrong and,
+    where possible, what to do next. It never contains a traceback.
+    """
+
+
+class BagError(BagmcpError):
+    """A bag could not be opened or read."""
+
+
+class UnsupportedFormatError(BagError):
+    """The input is not a bag format bagmcp reads (e.g. PX4 ULog, ROS bag format 1.2)."""
+
+
+class DamagedBagError(BagError):
+    """The input looks like a supported bag but its contents are damaged or truncated."""
+
+
+class EmptyFileError(DamagedBagError):
+    """The input file has no bytes at all."""
+
+
+class DecodeError(BagError):
+    """A message could not be decoded (missing or broken message definition)."""
+
+
+class TopicNotFoundError(BagmcpError):
+    """A topic named by the caller is not in the bag."""
+
+
+class MessagePathError(BagmcpError):
+    """A message path does not resolve on the topic's message type."""
+
+
+class TimeError(BagmcpError):
+    """A time argument cannot be parsed or lies outside the bag."""
+
+
+class StorageError(BagmcpError):
+    """The object store failed or refused an operation."""
+
+
+class ObjectNotFoundError(StorageError):
+    """The object store has no object under the requested key."""
+
+
+class InvalidKeyError(StorageError):
+    """An object key is malformed or tries to escape the store (e.g. ``..``)."""
