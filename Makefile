@@ -4,9 +4,9 @@ VENV   := .venv
 PY     := $(VENV)/bin/python
 BAGS   ?= ../shared/data/bags
 STAMP  := $(VENV)/.installed-stamp
-PACKAGES := shared/pyproject.toml gateway/pyproject.toml
+PACKAGES := shared/pyproject.toml gateway/pyproject.toml services/bag_store/pyproject.toml
 
-.PHONY: install run test lint typecheck pytest lock clean
+.PHONY: install run stack test lint typecheck pytest lock clean
 
 $(STAMP): requirements.lock $(PACKAGES)
 	test -x $(PY) || $(PYTHON) -m venv $(VENV)
@@ -16,8 +16,14 @@ $(STAMP): requirements.lock $(PACKAGES)
 
 install: $(STAMP)  ## create .venv with pinned dependencies and the bagmcp command
 
-run: install  ## summarize every bag under BAGS (the embedded server replaces this)
-	@for bag in $(BAGS)/*/*; do $(VENV)/bin/bagmcp info "$$bag" || true; echo; done
+HOST ?= 127.0.0.1
+PORT ?= 8000
+
+run: install  ## serve the bags under BAGS over MCP at http://HOST:PORT/mcp (embedded, no Docker)
+	$(VENV)/bin/bagmcp serve --bags $(BAGS) --host $(HOST) --port $(PORT)
+
+stack: install  ## the distributed stack as local processes (redis, S3, bag-store, worker, gateway)
+	deploy/stack/run.sh
 
 lint: install
 	$(VENV)/bin/ruff check .

@@ -9,7 +9,7 @@ import pytest
 
 from tests.fixtures.bagfactory import BAG_KINDS, BagKind, write_bag
 
-# pytest_plugins (servers) added when tests/fixtures/servers.py lands
+pytest_plugins = ["tests.fixtures.servers"]
 
 CORPUS = Path(os.environ.get("BAGMCP_CORPUS", Path(__file__).resolve().parents[2] / "shared/data/bags"))
 
@@ -33,3 +33,8 @@ def scenario_bags(tmp_path_factory: pytest.TempPathFactory) -> dict[BagKind, Pat
 def scenario_bag(request: pytest.FixtureRequest, scenario_bags: dict[BagKind, Path]) -> Path:
     kind: BagKind = request.param
     return scenario_bags[kind]
+
+
+@pytest.fixture(scope="session")
+def anyio_backend() -> str:
+    return "asyncio"

@@ -1,0 +1,62 @@
+"""Upstream MCP servers the gateway aggregates: over HTTP with the service token, or in-process."""
+
+from __future__ import annotations
+
+import re
+from collections.abc import AsyncIterator
+from contextlib import asynccontextmanager
+from dataclasses import dataclass
+
+import httpx2
+from mcp import Client
+from mcp.client.streamable_http import streamable_http_client
+from mcp.server.mcpserver import MCPServer
+
+from bagmcp_shared.errors import BagmcpError
+
+_UPSTREAM_NAME = re.compile(r"^[a-z][a-z0-9-]*$")
+
+
+class GatewayConfigError(BagmcpError):
+    """The gateway's upstream configuration is invalid (bad name, tool name collision)."""
+
+
+@dataclass(frozen=True)
+class Upstream:
+    """One upstream MCP server. Exactly one of ``url`` (team mode) or ``server`` (embedded) is set.
+
+    ``prefix`` is prepended to its tool names (``prefix__tool``); it is only needed when two
+    upstreams publish a tool of the same name.
+    """
+
+    name: str
+    url: str | None = None
+    server: MCPServer | None = None
+    service_token: str | None = None
+    prefix: str | None = None
+    timeout_s: float = 10.0
+    call_timeout_s: float = 600.0
+
+    def __post_init__(self) -> None:
+        if not _UPSTREAM_NAME.match(self.name):
+            raise GatewayConfigError(f"upstream name {self.name!r} must match [a-z][a-z0-9-]*")
+        if (self.url is None) == (self.server is None):
+            raise GatewayConfigError(f"upstream {self.name}: give either a url or an in-process server")
+
+    def exposed(self, tool: str) -> str:
+        return f"{self.prefix}__{tool}" if self.prefix else tool
+
+    @asynccontextmanager
+    async def client(self) -> AsyncIterator[Client]:
+        """A connected MCP client for this upstream (no response cache: the gateway re-lists)."""
+        if self.server is not None:
+            async with Client(self.server, cache=None) as client:
+                yield client
+            return
+        assert self.url is not None
+        headers = {"Authorization": f"Bearer {self.service_token}"} if self.service_token else {}
+        http = httpx2.AsyncClient(
+            headers=headers, timeout=httpx2.Timeout(self.timeout_s, read=self.call_timeout_s)
+        )
+        async with http, Client(streamable_http_client(self.url, http_client=http), cache=None) as client:
+            yield client

@@ -1,0 +1,1 @@
+"""bagmcp bag-store: owns bags (catalog, upload, ingest) and serves their messages."""

@@ -1,0 +1,78 @@
+"""Embedded mode: catalog every bag found under a served folder (read-only) at start-up."""
+
+from __future__ import annotations
+
+import logging
+import time
+from pathlib import Path
+
+from bagmcp_bag_store.catalog import Catalog
+from bagmcp_bag_store.content import content_id
+from bagmcp_bag_store.errors import NameTakenError, UploadError
+from bagmcp_bag_store.models import BagRecord
+from bagmcp_bag_store.upload import sanitize_name
+from bagmcp_shared.bags.detect import sniff_file
+from bagmcp_shared.bags.ros2_dir import storage_files
+from bagmcp_shared.errors import BagmcpError
+
+log = logging.getLogger(__name__)
+_BAG_SUFFIXES = (".bag", ".mcap", ".db3")
+
+
+def _is_bag_dir(path: Path) -> bool:
+    return (path / "metadata.yaml").is_file()
+
+
+def find_bags(root: Path) -> list[Path]:
+    """Bag files and ROS 2 bag directories under ``root`` (a bag directory is not searched further)."""
+    found: list[Path] = []
+    for entry in sorted(root.iterdir()):
+        if entry.name.startswith("."):
+            continue
+        if entry.is_dir():
+            found.extend([entry] if _is_bag_dir(entry) else find_bags(entry))
+        elif entry.suffix in _BAG_SUFFIXES and entry.stat().st_size > 0:
+            found.append(entry)
+    return found
+
+
+def _record(root: Path, bag: Path) -> BagRecord:
+    if bag.is_dir():
+        files, _, _ = storage_files(bag)
+        members = sorted({*files, *(p for p in bag.iterdir() if p.name == "metadata.yaml")})
+    else:
+        sniff_file(bag)
+        members = [bag]
+    sha = content_id(members, directory=bag.is_dir())
+    return BagRecord(
+        id=sha[:16],
+        name=sanitize_name(bag.name),
+        layout="directory" if bag.is_dir() else "file",
+        files=[m.name for m in members],
+        source=str(bag.relative_to(root)),
+        sha256=sha,
+        size_bytes=sum(m.stat().st_size for m in members),
+        created_at=time.time(),
+    )
+
+
+def catalog_folder(catalog: Catalog, root: Path) -> list[str]:
+    """Add every readable-looking bag under ``root``; returns their ids (skips with a log line)."""
+    ids: list[str] = []
+    for bag in find_bags(root):
+        try:
+            record = _record(root, bag)
+            if catalog.get(record.id) is not None:
+                continue
+            name = record.name
+            for n in range(2, 100):
+                try:
+                    catalog.claim_name(name, record.id)
+                    break
+                except NameTakenError:
+                    name = f"{record.name}-{n}"
+            catalog.put(record.model_copy(update={"name": name}))
+            ids.append(record.id)
+        except (BagmcpError, UploadError, OSError) as err:
+            log.warning("skipping %s: %s", bag, err)
+    return ids

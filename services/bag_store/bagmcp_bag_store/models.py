@@ -1,0 +1,35 @@
+"""The catalog record of a bag."""
+
+from __future__ import annotations
+
+from typing import Literal
+
+from pydantic import BaseModel, Field, JsonValue
+
+BagStatus = Literal["ingesting", "ready", "failed"]
+
+
+class BagRecord(BaseModel):
+    """What the catalog knows about one bag.
+
+    ``files`` are the bag's files relative to its root: one name for a single-file bag, the
+    storage files and metadata.yaml for a ROS 2 directory (``layout == "directory"``).
+    ``source`` is where the files live: an object-key prefix (``bags/<id>``) in team mode or
+    a path relative to the served folder in embedded mode.
+    """
+
+    id: str
+    name: str
+    layout: Literal["file", "directory"]
+    files: list[str]
+    source: str
+    sha256: str
+    size_bytes: int
+    status: BagStatus = "ingesting"
+    error: str | None = None
+    created_at: float
+    tags: list[str] = Field(default_factory=list)
+    summary: dict[str, JsonValue] | None = None
+
+    def summary_value(self, key: str) -> JsonValue:
+        return self.summary.get(key) if self.summary else None

@@ -1,0 +1,107 @@
+"""Output schemas of the bag-store tools (MCP structured content)."""
+
+from __future__ import annotations
+
+from typing import Literal
+
+from pydantic import BaseModel, JsonValue
+
+Clock = Literal["log_time"]
+
+
+class Instant(BaseModel):
+    """One instant: seconds from the bag start, absolute epoch seconds, ISO-8601 UTC."""
+
+    offset_s: float
+    stamp_s: float
+    iso: str
+
+
+class BagBrief(BaseModel):
+    id: str
+    name: str
+    status: str
+    format: str | None
+    size_bytes: int
+    duration_s: float | None
+    message_count: int | None
+    topic_count: int | None
+    start: Instant | None
+    tags: list[str]
+
+
+class BagList(BaseModel):
+    bags: list[BagBrief]
+    total: int
+    offset: int
+    next_offset: int | None
+
+
+class TopicInfo(BaseModel):
+    name: str
+    type: str
+    count: int
+    rate_hz: float | None
+    first: Instant | None
+    last: Instant | None
+
+
+class BagInfo(BaseModel):
+    id: str
+    name: str
+    status: str
+    format: str
+    size_bytes: int
+    sha256: str
+    message_count: int
+    duration_s: float
+    start: Instant | None
+    end: Instant | None
+    topics: list[TopicInfo]
+    notes: list[str]
+
+
+class FieldInfo(BaseModel):
+    path: str
+    type: str
+    unit: str | None
+
+
+class TopicDescription(BaseModel):
+    bag: str
+    topic: str
+    type: str
+    count: int
+    rate_hz: float | None
+    fields: list[FieldInfo]
+    fields_truncated: bool
+    sample: JsonValue
+    sample_time: Instant | None
+
+
+class MessageOut(BaseModel):
+    time: Instant
+    header_stamp_s: float | None
+    data: JsonValue
+
+
+class MessageAtTime(BaseModel):
+    bag: str
+    topic: str
+    requested: Instant
+    clock: Clock
+    delta_s: float
+    message: MessageOut
+
+
+class MessageRange(BaseModel):
+    bag: str
+    topic: str
+    start: Instant
+    end: Instant
+    clock: Clock
+    total: int
+    returned: int
+    truncated: bool
+    next_cursor: str | None
+    messages: list[MessageOut]

@@ -1,0 +1,37 @@
+"""Celery tasks: serialization and retries only; the work is in ingest.py."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+from celery import Celery
+
+from bagmcp_bag_store.deps import BagStoreDeps
+from bagmcp_bag_store.ingest import ingest_bag
+
+INGEST_TASK = "bagmcp.bag_store.ingest"
+
+
+def create_celery(redis_url: str) -> Celery:
+    """A Celery app on Redis (broker and results) that redelivers tasks of a worker that died."""
+    app = Celery("bagmcp", broker=redis_url, backend=redis_url)
+    app.conf.update(
+        task_acks_late=True,
+        task_reject_on_worker_lost=True,
+        worker_prefetch_multiplier=1,
+        task_serializer="json",
+        result_serializer="json",
+        accept_content=["json"],
+        broker_connection_retry_on_startup=True,
+        broker_transport_options={"visibility_timeout": 3600},
+        result_expires=24 * 3600,
+    )
+    return app
+
+
+def register_tasks(app: Celery, deps: Callable[[], BagStoreDeps]) -> None:
+    """Bind the tasks to ``app``; ``deps`` is called lazily in the worker process."""
+
+    @app.task(name=INGEST_TASK, bind=True, max_retries=3, default_retry_delay=5)  # type: ignore[untyped-decorator]
+    def ingest(self: object, bag_id: str) -> str:
+        return ingest_bag(deps(), bag_id)

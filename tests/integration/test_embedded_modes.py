@@ -1,0 +1,99 @@
+"""`bagmcp serve` (HTTP) and `bagmcp stdio` over a folder answer like the distributed stack."""
+
+from __future__ import annotations
+
+import shutil
+from collections.abc import Iterator
+from pathlib import Path
+
+import anyio
+import httpx
+import pytest
+from mcp import Client, StdioServerParameters
+
+from tests.fixtures.bagfactory import BagKind
+from tests.fixtures.mcp_client import call, http_client
+from tests.fixtures.processes import BIN, http_ok, service
+from tests.fixtures.servers import free_port
+from tests.integration.first_tools import check_first_tools
+
+pytestmark = pytest.mark.anyio
+NAMES = ["scenario", "scenario_db3", "scenario_mcap"]
+
+
+@pytest.fixture(scope="module")
+def bag_folder(scenario_bags: dict[BagKind, Path], tmp_path_factory: pytest.TempPathFactory) -> Path:
+    folder = tmp_path_factory.mktemp("served")
+    for path in scenario_bags.values():
+        (shutil.copytree if path.is_dir() else shutil.copy)(path, folder / path.name)
+    (folder / "notes.txt").write_text("not a bag")
+    return folder
+
+
+@pytest.fixture(scope="module")
+def served(bag_folder: Path, tmp_path_factory: pytest.TempPathFactory) -> Iterator[str]:
+    port = free_port()
+    url = f"http://127.0.0.1:{port}"
+    command = [str(BIN / "bagmcp"), "serve", "--bags", str(bag_folder), "--port", str(port)]
+    with service(
+        "bagmcp-serve",
+        command,
+        env={},
+        log_dir=tmp_path_factory.mktemp("logs"),
+        ready=http_ok(f"{url}/healthz"),
+    ):
+        yield url
+
+
+async def _wait_ready(client: Client, count: int) -> None:
+    with anyio.fail_after(60):
+        while True:
+            listing = await call(client, "list_bags")
+            bags = listing["bags"]
+            assert isinstance(bags, list)
+            if len(bags) >= count and all(b["status"] != "ingesting" for b in bags):
+                return
+            await anyio.sleep(0.2)
+
+
+async def test_serve_over_http_answers_the_first_tools_for_three_formats(served: str) -> None:
+    async with http_client(f"{served}/mcp", token=None) as client:
+        await _wait_ready(client, len(NAMES))
+        await check_first_tools(client, NAMES)
+
+
+async def test_stdio_answers_the_first_tools_for_three_formats(bag_folder: Path) -> None:
+    params = StdioServerParameters(command=str(BIN / "bagmcp"), args=["stdio", "--bags", str(bag_folder)])
+    async with Client(params, cache=None) as client:
+        await _wait_ready(client, len(NAMES))
+        await check_first_tools(client, NAMES)
+
+
+def test_serve_lists_bags_over_rest_and_refuses_uploads_to_a_read_only_folder(served: str) -> None:
+    listing = httpx.get(f"{served}/api/v1/bags").json()
+    assert sorted(b["name"] for b in listing["bags"]) == NAMES
+    refused = httpx.post(f"{served}/api/v1/bags", params={"filename": "x.bag"}, content=b"#ROSBAG V2.0\n")
+    assert refused.status_code == 405
+    assert refused.json()["error"]["code"] == "read_only"
+
+
+def test_serve_with_a_token_rejects_calls_without_it(bag_folder: Path, tmp_path: Path) -> None:
+    port = free_port()
+    command = [str(BIN / "bagmcp"), "serve", "--bags", str(bag_folder), "--port", str(port), "--token", "t0k"]
+    with service(
+        "bagmcp-serve-token",
+        command,
+        env={},
+        log_dir=tmp_path,
+        ready=http_ok(f"http://127.0.0.1:{port}/healthz"),
+    ):
+        anonymous = httpx.post(
+            f"http://127.0.0.1:{port}/mcp", json={"jsonrpc": "2.0", "id": 1, "method": "tools/list"}
+        )
+        assert anonymous.status_code == 401
+        assert "resource_metadata" in anonymous.headers["www-authenticate"]
+        assert httpx.get(f"http://127.0.0.1:{port}/api/v1/bags").status_code == 401
+        authorized = httpx.get(
+            f"http://127.0.0.1:{port}/api/v1/bags", headers={"Authorization": "Bearer t0k"}
+        )
+        assert authorized.status_code == 200
