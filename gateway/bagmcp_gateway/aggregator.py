@@ -13,6 +13,7 @@ from typing import Any
 
 import anyio
 import mcp.types as types
+from mcp import MCPError
 from mcp.server import Server, ServerRequestContext
 
 from bagmcp_gateway.upstreams import GatewayConfigError, Upstream
@@ -77,13 +78,20 @@ def build_gateway_server(upstreams: list[Upstream], *, name: str = "bagmcp") -> 
     async def on_list_tools(
         ctx: ServerRequestContext[Any], params: types.PaginatedRequestParams | None
     ) -> types.ListToolsResult:
-        return types.ListToolsResult(tools=await collect_tools(upstreams, routing))
+        try:
+            return types.ListToolsResult(tools=await collect_tools(upstreams, routing))
+        except GatewayConfigError as err:
+            log.error("gateway configuration error: %s", err)
+            raise MCPError(types.INTERNAL_ERROR, f"gateway configuration error: {err}") from err
 
     async def on_call_tool(
         ctx: ServerRequestContext[Any], params: types.CallToolRequestParams
     ) -> types.CallToolResult:
         if params.name not in routing.routes:
-            await collect_tools(upstreams, routing)
+            try:
+                await collect_tools(upstreams, routing)
+            except GatewayConfigError as err:
+                return _error(f"gateway configuration error: {err}")
         route = routing.routes.get(params.name)
         if route is None:
             down = ", ".join(routing.down) or "none"

@@ -5,6 +5,8 @@ from __future__ import annotations
 
 import json
 import subprocess
+import tarfile
+import zipfile
 from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
@@ -16,7 +18,7 @@ from minio import Minio
 
 from tests.fixtures.bagfactory import BagKind
 from tests.fixtures.mcp_client import call, http_client
-from tests.fixtures.processes import BIN, http_ok, service
+from tests.fixtures.processes import BIN, http_ok, service, wait_until
 from tests.fixtures.servers import S3Endpoint, free_port
 from tests.integration.first_tools import check_first_tools
 
@@ -32,6 +34,7 @@ class Stack:
     s3: S3Endpoint
     bucket: str
     logs: Path
+    bag_store_data: Path
 
 
 def _env(redis_url: str, s3: S3Endpoint, data: Path, bucket: str) -> dict[str, str]:
@@ -51,7 +54,8 @@ def stack(redis_url: str, s3_server: S3Endpoint, tmp_path_factory: pytest.TempPa
     logs = tmp_path_factory.mktemp("stack-logs")
     bucket = f"stack-{free_port()}"
     store_port, gateway_port = free_port(), free_port()
-    common = _env(redis_url, s3_server, tmp_path_factory.mktemp("bag-store-data"), bucket)
+    store_data = tmp_path_factory.mktemp("bag-store-data")
+    common = _env(redis_url, s3_server, store_data, bucket)
     worker_env = {**common, "BAGMCP_DATA_DIR": str(tmp_path_factory.mktemp("worker-data"))}
     gateway_env = {
         "BAGMCP_SERVICE_TOKEN": "test-service-token",
@@ -92,7 +96,7 @@ def stack(redis_url: str, s3_server: S3Endpoint, tmp_path_factory: pytest.TempPa
             ready=http_ok(f"http://127.0.0.1:{gateway_port}/readyz"),
         ),
     ):
-        yield Stack(f"http://127.0.0.1:{gateway_port}", store_url, s3_server, bucket, logs)
+        yield Stack(f"http://127.0.0.1:{gateway_port}", store_url, s3_server, bucket, logs, store_data)
 
 
 def _upload(stack: Stack, path: Path) -> subprocess.CompletedProcess[str]:
@@ -219,3 +223,71 @@ async def test_unknown_ids_and_bad_tokens_get_clear_errors(stack: Stack) -> None
     assert httpx.get(f"{stack.url}/api/v1/bags", headers={"Authorization": "Bearer wrong"}).status_code == 401
     anonymous = httpx.post(f"{stack.url}/mcp", json={"jsonrpc": "2.0", "id": 1, "method": "tools/list"})
     assert anonymous.status_code == 401
+
+
+def _auth() -> dict[str, str]:
+    return {"Authorization": f"Bearer {TOKEN}"}
+
+
+def test_a_zipped_ros2_directory_uploads_through_the_gateway(
+    stack: Stack,
+    uploaded: dict[BagKind, dict[str, object]],
+    scenario_bags: dict[BagKind, Path],
+    tmp_path: Path,
+) -> None:
+    source = scenario_bags["ros2-sqlite3"]
+    archive = tmp_path / "zipped_db3.zip"
+    with zipfile.ZipFile(archive, "w") as zipped:
+        for member in source.iterdir():
+            zipped.write(member, f"{source.name}/{member.name}")
+    response = httpx.post(
+        f"{stack.url}/api/v1/bags",
+        params={"filename": archive.name},
+        headers=_auth(),
+        content=archive.read_bytes(),
+    )
+    assert response.status_code == 200  # same content as the sqlite3 bag uploaded as tar: deduplicated
+    assert response.json()["duplicate"] is True
+    assert response.json()["bag"]["id"] == uploaded["ros2-sqlite3"]["id"]
+
+
+def test_an_archive_with_a_path_escaping_its_folder_is_refused(stack: Stack, tmp_path: Path) -> None:
+    archive = tmp_path / "evil.tar"
+    payload = tmp_path / "payload"
+    payload.write_bytes(b"#ROSBAG V2.0\n")
+    with tarfile.open(archive, "w") as tar:
+        tar.add(payload, arcname="../../escaped.bag")
+    before = _objects(stack)
+    response = httpx.post(
+        f"{stack.url}/api/v1/bags",
+        params={"filename": archive.name},
+        headers=_auth(),
+        content=archive.read_bytes(),
+    )
+    assert response.status_code == 400
+    assert "unsafe path" in response.json()["error"]["message"]
+    assert _objects(stack) == before
+
+
+def test_an_interrupted_upload_leaves_nothing_behind(
+    stack: Stack, uploaded: dict[BagKind, dict[str, object]], scenario_bags: dict[BagKind, Path]
+) -> None:
+    before = _objects(stack)
+    data = scenario_bags["ros1"].read_bytes()
+
+    def cut_off() -> Iterator[bytes]:
+        yield data[: len(data) // 3]
+        raise ConnectionResetError("client went away")
+
+    with pytest.raises((ConnectionResetError, httpx.HTTPError)):
+        httpx.post(
+            f"{stack.bag_store_url}/api/v1/bags",
+            params={"filename": "interrupted.bag"},
+            headers={"Authorization": "Bearer test-service-token"},
+            content=cut_off(),
+        )
+    listing = httpx.get(f"{stack.url}/api/v1/bags", headers=_auth()).json()
+    assert sorted(b["name"] for b in listing["bags"]) == NAMES
+    assert _objects(stack) == before
+    uploads = stack.bag_store_data / "uploads"
+    wait_until(lambda: not any(uploads.iterdir()), timeout_s=10, what="upload temp files to be removed")

@@ -1,0 +1,63 @@
+"""The workers' local cache of bag files: fetched once by content id, bounded, least recently used out."""
+
+from __future__ import annotations
+
+import os
+import time
+from pathlib import Path
+
+import pytest
+
+from bagmcp_bag_store.bagfiles import CachedBagFiles
+from bagmcp_bag_store.models import BagRecord
+from bagmcp_shared.errors import ObjectNotFoundError
+from bagmcp_shared.storage import LocalStore
+
+
+def _record(store: LocalStore, bag_id: str, size: int) -> BagRecord:
+    store.put_bytes(f"bags/{bag_id}/{bag_id}.bag", bytes([len(bag_id)]) * size)
+    return BagRecord(
+        id=bag_id,
+        name=bag_id,
+        layout="file",
+        files=[f"{bag_id}.bag"],
+        source=f"bags/{bag_id}",
+        sha256="0" * 64,
+        size_bytes=size,
+        created_at=time.time(),
+    )
+
+
+def test_a_cached_bag_is_fetched_once_and_then_served_locally(tmp_path: Path) -> None:
+    store = LocalStore(tmp_path / "objects")
+    cache = CachedBagFiles(store, tmp_path / "cache", max_bytes=10_000)
+    record = _record(store, "aaaa", 1000)
+    first = cache.path_for(record)
+    assert first.read_bytes() == bytes([4]) * 1000
+    store.delete("bags/aaaa/aaaa.bag")  # the cache must not need the store any more
+    assert cache.path_for(record) == first
+    assert first.stat().st_size == 1000
+
+
+def test_the_least_recently_used_bag_is_evicted_past_the_limit(tmp_path: Path) -> None:
+    store = LocalStore(tmp_path / "objects")
+    cache = CachedBagFiles(store, tmp_path / "cache", max_bytes=2500)
+    old, recent, new = (_record(store, name, 1000) for name in ("old", "recent", "newer"))
+    cache.path_for(old)
+    cache.path_for(recent)
+    past = time.time() - 100
+    os.utime(tmp_path / "cache" / "old" / ".complete", (past, past))
+    cache.path_for(new)
+    assert not (tmp_path / "cache" / "old").exists()
+    assert (tmp_path / "cache" / "recent" / "recent.bag").exists()
+    assert (tmp_path / "cache" / "newer" / "newer.bag").exists()
+
+
+def test_a_failed_fetch_leaves_no_partial_entry(tmp_path: Path) -> None:
+    store = LocalStore(tmp_path / "objects")
+    cache = CachedBagFiles(store, tmp_path / "cache", max_bytes=10_000)
+    record = _record(store, "gone", 10)
+    store.delete("bags/gone/gone.bag")
+    with pytest.raises(ObjectNotFoundError, match="gone"):
+        cache.path_for(record)
+    assert sorted(p.name for p in (tmp_path / "cache").iterdir()) == []
