@@ -6,7 +6,7 @@ BAGS   ?= ../shared/data/bags
 STAMP  := $(VENV)/.installed-stamp
 PACKAGES := shared/pyproject.toml gateway/pyproject.toml services/bag_store/pyproject.toml
 
-.PHONY: install run stack test lint typecheck pytest lock clean
+.PHONY: install run stack test lint typecheck pytest bench lock clean
 
 $(STAMP): requirements.lock $(PACKAGES)
 	test -x $(PY) || $(PYTHON) -m venv $(VENV)
@@ -36,6 +36,9 @@ pytest: install
 	$(PY) -m pytest $(PYTEST_ARGS)
 
 test: lint typecheck pytest  ## everything CI checks
+
+bench: install  ## on demand, not in CI: index vs decode on a generated ~2 GB bag (in .bench/)
+	$(PY) bench/bench_index.py $(BENCH_ARGS)
 
 lock:  ## re-pin requirements.lock from requirements.in (needs uv in .venv)
 	$(VENV)/bin/uv pip compile --quiet --no-header --python-version 3.11 requirements.in -o requirements.lock

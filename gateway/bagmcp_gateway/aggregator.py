@@ -15,10 +15,13 @@ import anyio
 import mcp.types as types
 from mcp import MCPError
 from mcp.server import Server, ServerRequestContext
+from mcp.server.auth.middleware.auth_context import get_access_token
 
 from bagmcp_gateway.upstreams import GatewayConfigError, Upstream
 
 log = logging.getLogger(__name__)
+# Who called, for upstreams that keep per-caller state (jobs). Set here, never taken from the client.
+OWNER_META_KEY = "bagmcp/owner"
 
 
 @dataclass
@@ -84,9 +87,7 @@ def build_gateway_server(upstreams: list[Upstream], *, name: str = "bagmcp") -> 
             log.error("gateway configuration error: %s", err)
             raise MCPError(types.INTERNAL_ERROR, f"gateway configuration error: {err}") from err
 
-    async def on_call_tool(
-        ctx: ServerRequestContext[Any], params: types.CallToolRequestParams
-    ) -> types.CallToolResult:
+    async def on_call_tool(ctx: ServerRequestContext[Any], params: types.CallToolRequestParams) -> types.CallToolResult:
         if params.name not in routing.routes:
             try:
                 await collect_tools(upstreams, routing)
@@ -101,14 +102,15 @@ def build_gateway_server(upstreams: list[Upstream], *, name: str = "bagmcp") -> 
         async def relay(progress: float, total: float | None, message: str | None) -> None:
             await ctx.session.report_progress(progress, total, message)
 
+        token = get_access_token()
+        meta = {OWNER_META_KEY: token.client_id if token is not None else "local"}
         try:
             async with upstream.client() as client:
-                return await client.call_tool(original, params.arguments or {}, progress_callback=relay)
+                return await client.call_tool(original, params.arguments or {}, progress_callback=relay, meta=meta)  # type: ignore[arg-type]
         except Exception as err:  # transport failure: the tool is there but its service is not
             log.warning("call of %s on %s failed: %s", original, upstream.name, err)
             return _error(
-                f"the {upstream.name} service is unavailable right now ({type(err).__name__}); "
-                "try again shortly"
+                f"the {upstream.name} service is unavailable right now ({type(err).__name__}); try again shortly"
             )
 
     return Server(name, on_list_tools=on_list_tools, on_call_tool=on_call_tool)

@@ -68,8 +68,7 @@ def create_app(config: GatewayConfig, *, rest: APIRouter) -> FastAPI:
         with anyio.move_on_after(15):
             await collect_tools(config.upstreams, routing)
         status = {
-            u.name: ("down: " + routing.down[u.name]) if u.name in routing.down else "up"
-            for u in config.upstreams
+            u.name: ("down: " + routing.down[u.name]) if u.name in routing.down else "up" for u in config.upstreams
         }
         ready = not routing.down
         return JSONResponse({"ready": ready, "upstreams": status}, status_code=200 if ready else 503)

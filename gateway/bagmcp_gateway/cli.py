@@ -134,9 +134,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         from bagmcp_gateway.upload_client import default_token
 
         args.token = default_token()
-    logging.basicConfig(
-        level=logging.WARNING, format="%(levelname)s %(name)s: %(message)s", stream=sys.stderr
-    )
+    logging.basicConfig(level=logging.WARNING, format="%(levelname)s %(name)s: %(message)s", stream=sys.stderr)
     try:
         code: int = args.handler(args)
     except BagmcpError as err:

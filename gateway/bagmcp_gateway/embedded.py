@@ -2,8 +2,8 @@
 
 from __future__ import annotations
 
+import os
 import tempfile
-from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -13,7 +13,7 @@ from mcp.server import Server
 from bagmcp_bag_store.api import build_router, install_error_handler
 from bagmcp_bag_store.deps import BagStoreDeps
 from bagmcp_bag_store.tools import build_mcp
-from bagmcp_bag_store.wiring import folder_deps
+from bagmcp_bag_store.wiring import ThreadRunner, folder_deps
 from bagmcp_gateway.aggregator import build_gateway_server
 from bagmcp_gateway.app import GatewayConfig, create_app
 from bagmcp_gateway.auth import token_hash
@@ -24,13 +24,16 @@ from bagmcp_gateway.upstreams import Upstream
 class Embedded:
     deps: BagStoreDeps
     upstreams: list[Upstream]
-    pool: ThreadPoolExecutor
+    runner: ThreadRunner
 
 
 def embed(bags_dir: Path) -> Embedded:
-    """Catalog ``bags_dir`` (read-only), start ingest, and expose the bag-store in-process."""
-    deps, pool = folder_deps(bags_dir)
-    return Embedded(deps, [Upstream(name="bag-store", server=build_mcp(deps))], pool)
+    """Catalog ``bags_dir`` (read-only), start ingest, and expose the bag-store in-process.
+
+    ``BAGMCP_JOB_BUDGET_S`` sets how long long-running tools wait before answering with a job.
+    """
+    deps, runner = folder_deps(bags_dir, job_budget_s=float(os.environ.get("BAGMCP_JOB_BUDGET_S", "20")))
+    return Embedded(deps, [Upstream(name="bag-store", server=build_mcp(deps))], runner)
 
 
 def create_embedded_app(

@@ -33,15 +33,11 @@ class GatewaySettings:
         service = env.get("BAGMCP_SERVICE_TOKEN", "")
         if service.lower() in PLACEHOLDERS:
             raise GatewayConfigError("BAGMCP_SERVICE_TOKEN must be set to a real secret")
-        tokens = [
-            t for t in env.get("BAGMCP_TOKENS", env.get("BAGMCP_DEV_TOKEN", "")).split(",") if t.strip()
-        ]
+        tokens = [t for t in env.get("BAGMCP_TOKENS", env.get("BAGMCP_DEV_TOKEN", "")).split(",") if t.strip()]
         hashes = [token_hash(t.strip()) for t in tokens]
         hashes += [h for h in env.get("BAGMCP_TOKEN_HASHES", "").split(",") if h.strip()]
         if not hashes:
-            raise GatewayConfigError(
-                "set BAGMCP_TOKENS (or BAGMCP_TOKEN_HASHES): the gateway needs client tokens"
-            )
+            raise GatewayConfigError("set BAGMCP_TOKENS (or BAGMCP_TOKEN_HASHES): the gateway needs client tokens")
         upstreams = []
         for item in env.get("BAGMCP_UPSTREAMS", "bag-store=http://127.0.0.1:8001/mcp").split(","):
             name, _, rest = item.strip().partition("=")

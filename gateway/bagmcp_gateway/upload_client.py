@@ -25,9 +25,7 @@ def _progress(done: int, total: int, name: str) -> None:
         return
     width = 30
     filled = width * done // max(total, 1)
-    sys.stderr.write(
-        f"\r{name} [{'#' * filled}{'.' * (width - filled)}] {done / 2**20:.1f}/{total / 2**20:.1f} MiB"
-    )
+    sys.stderr.write(f"\r{name} [{'#' * filled}{'.' * (width - filled)}] {done / 2**20:.1f}/{total / 2**20:.1f} MiB")
     if done >= total:
         sys.stderr.write("\n")
     sys.stderr.flush()
@@ -73,9 +71,7 @@ def upload(path: Path, *, url: str, token: str | None, name: str | None = None) 
     if response.status_code >= 400:
         error = answer.get("error", {}) if isinstance(answer, dict) else {}
         message = error.get("message") if isinstance(error, dict) else None
-        raise UploadFailedError(
-            f"upload refused ({response.status_code}): {message or answer or response.text}"
-        )
+        raise UploadFailedError(f"upload refused ({response.status_code}): {message or answer or response.text}")
     if not isinstance(answer, dict):
         raise UploadFailedError(f"unexpected answer from {url}: {response.text[:200]}")
     return answer

@@ -55,8 +55,6 @@ class Upstream:
             return
         assert self.url is not None
         headers = {"Authorization": f"Bearer {self.service_token}"} if self.service_token else {}
-        http = httpx2.AsyncClient(
-            headers=headers, timeout=httpx2.Timeout(self.timeout_s, read=self.call_timeout_s)
-        )
+        http = httpx2.AsyncClient(headers=headers, timeout=httpx2.Timeout(self.timeout_s, read=self.call_timeout_s))
         async with http, Client(streamable_http_client(self.url, http_client=http), cache=None) as client:
             yield client

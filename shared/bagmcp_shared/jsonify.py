@@ -46,8 +46,6 @@ def to_json(value: object, *, max_items: int = 64) -> Json:
     fields = getattr(value, "__dataclass_fields__", None)
     if isinstance(fields, dict):
         return {
-            name: to_json(getattr(value, name), max_items=max_items)
-            for name in fields
-            if not name.startswith("__")
+            name: to_json(getattr(value, name), max_items=max_items) for name in fields if not name.startswith("__")
         }
     return str(value)

@@ -66,8 +66,7 @@ def parse_message_path(text: str) -> MessagePath:
     topic, _, fields = text.strip().partition(".")
     if not _TOPIC.match(topic):
         raise MessagePathError(
-            f"{text!r} does not start with a topic name; write /topic.field.sub[index], "
-            "e.g. /odom.twist.twist.linear.x"
+            f"{text!r} does not start with a topic name; write /topic.field.sub[index], e.g. /odom.twist.twist.linear.x"
         )
     return MessagePath(topic=topic, steps=parse_field_path(fields))
 

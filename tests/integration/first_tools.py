@@ -101,9 +101,7 @@ async def check_clear_errors(client: Client, name: str) -> None:
     assert "/cmd_vel" in no_topic
     outside = await call_error(client, "get_message_at_time", bag=name, topic="/odom", time=500.0)
     assert "outside the bag" in outside
-    bad_path = await call_error(
-        client, "get_messages_in_range", bag=name, topic="/odom", fields=["pose.pos.x"]
-    )
+    bad_path = await call_error(client, "get_messages_in_range", bag=name, topic="/odom", fields=["pose.pos.x"])
     assert "pose.pose.position.x" in bad_path
 
 

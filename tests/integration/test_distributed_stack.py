@@ -192,9 +192,7 @@ def test_bad_uploads_are_refused_and_nothing_is_stored(
     assert _objects(stack) == before
     names = [
         b["name"]
-        for b in httpx.get(f"{stack.url}/api/v1/bags", headers={"Authorization": f"Bearer {TOKEN}"}).json()[
-            "bags"
-        ]
+        for b in httpx.get(f"{stack.url}/api/v1/bags", headers={"Authorization": f"Bearer {TOKEN}"}).json()["bags"]
     ]
     assert sorted(names) == NAMES
 

@@ -87,13 +87,9 @@ def test_serve_with_a_token_rejects_calls_without_it(bag_folder: Path, tmp_path:
         log_dir=tmp_path,
         ready=http_ok(f"http://127.0.0.1:{port}/healthz"),
     ):
-        anonymous = httpx.post(
-            f"http://127.0.0.1:{port}/mcp", json={"jsonrpc": "2.0", "id": 1, "method": "tools/list"}
-        )
+        anonymous = httpx.post(f"http://127.0.0.1:{port}/mcp", json={"jsonrpc": "2.0", "id": 1, "method": "tools/list"})
         assert anonymous.status_code == 401
         assert "resource_metadata" in anonymous.headers["www-authenticate"]
         assert httpx.get(f"http://127.0.0.1:{port}/api/v1/bags").status_code == 401
-        authorized = httpx.get(
-            f"http://127.0.0.1:{port}/api/v1/bags", headers={"Authorization": "Bearer t0k"}
-        )
+        authorized = httpx.get(f"http://127.0.0.1:{port}/api/v1/bags", headers={"Authorization": "Bearer t0k"})
         assert authorized.status_code == 200

@@ -84,9 +84,7 @@ def test_a_20_mib_object_uploaded_with_unknown_length_round_trips_through_s3_as_
 ) -> None:
     key = f"{_prefix()}bags/big.mcap"
     _round_trip(s3_store, key, payload)
-    client = Minio(
-        s3_server.endpoint, access_key=s3_server.access_key, secret_key=s3_server.secret_key, secure=False
-    )
+    client = Minio(s3_server.endpoint, access_key=s3_server.access_key, secret_key=s3_server.secret_key, secure=False)
     etag = client.stat_object(s3_store.bucket, key).etag
     assert etag is not None
     assert etag.endswith("-2")  # two parts: 16 MiB + 4 MiB
@@ -105,9 +103,7 @@ def test_a_20_mib_object_round_trips_through_a_local_directory_with_exact_ranged
     assert list(store.list()) == [ObjectInfo("bags/big.mcap", SIZE)]
 
 
-def test_our_redis_server_round_trips_20_mib_and_is_not_the_system_redis(
-    redis_url: str, payload: bytes
-) -> None:
+def test_our_redis_server_round_trips_20_mib_and_is_not_the_system_redis(redis_url: str, payload: bytes) -> None:
     client = redis.Redis.from_url(redis_url)
     try:
         client.set("blob", payload)
@@ -174,9 +170,7 @@ def test_a_local_store_never_follows_a_symlink_out_of_its_root(tmp_path: Path) -
     assert (outside / "secret").read_bytes() == b"do not read"
 
 
-def test_missing_keys_raise_object_not_found_and_deleting_them_is_fine(
-    store: ObjectStore, tmp_path: Path
-) -> None:
+def test_missing_keys_raise_object_not_found_and_deleting_them_is_fine(store: ObjectStore, tmp_path: Path) -> None:
     key = f"{_prefix()}missing.bin"
     target = tmp_path / "target.bin"
     target.write_bytes(b"keep me")
@@ -216,9 +210,7 @@ def test_listing_returns_every_object_under_a_prefix_sorted_by_key(store: Object
     store.put_bytes(f"{_prefix()}elsewhere", b"other prefix")
     listed = list(store.list(prefix))
     assert [info.key for info in listed] == sorted(prefix + name for name in names)
-    assert {info.key: info.size for info in listed} == {
-        prefix + name: size for size, name in enumerate(names)
-    }
+    assert {info.key: info.size for info in listed} == {prefix + name: size for size, name in enumerate(names)}
     assert list(store.list(f"{prefix}a/")) == [ObjectInfo(f"{prefix}a/b", 2)]
     assert list(store.list(f"{prefix}nothing/")) == []
     store.delete(f"{prefix}a/b")
@@ -258,9 +250,7 @@ def test_a_read_only_local_store_refuses_every_write(tmp_path: Path) -> None:
 
 def test_an_s3_store_without_a_server_fails_fast_with_a_storage_error_naming_the_endpoint() -> None:
     port = free_port()
-    store = S3Store(
-        endpoint=f"127.0.0.1:{port}", access_key="nobody", secret_key="nothing-here", bucket="absent"
-    )
+    store = S3Store(endpoint=f"127.0.0.1:{port}", access_key="nobody", secret_key="nothing-here", bucket="absent")
     for operation in (store.ensure_bucket, lambda: store.put_bytes("k", b"x"), lambda: store.stat("k")):
         started = time.monotonic()
         with pytest.raises(StorageError) as caught:
@@ -274,8 +264,6 @@ def test_an_s3_store_without_a_server_fails_fast_with_a_storage_error_naming_the
 def test_s3_credentials_the_server_does_not_know_are_refused_as_a_storage_error(
     s3_server: S3Endpoint,
 ) -> None:
-    store = S3Store(
-        endpoint=s3_server.endpoint, access_key="AKUNKNOWN", secret_key="wrong-secret", bucket="absent"
-    )
+    store = S3Store(endpoint=s3_server.endpoint, access_key="AKUNKNOWN", secret_key="wrong-secret", bucket="absent")
     with pytest.raises(StorageError, match=f"object store at http://{s3_server.endpoint} refused"):
         store.ensure_bucket()

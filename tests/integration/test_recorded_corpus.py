@@ -26,9 +26,7 @@ def test_readable_recording_has_the_documented_topics_and_counts(corpus: Path, r
 
 
 @pytest.mark.parametrize("relpath", sorted(UNREADABLE))
-def test_unreadable_recording_fails_fast_with_a_message_naming_file_and_problem(
-    corpus: Path, relpath: str
-) -> None:
+def test_unreadable_recording_fails_fast_with_a_message_naming_file_and_problem(corpus: Path, relpath: str) -> None:
     error_type, phrase = UNREADABLE[relpath]
     began = time.monotonic()
     with pytest.raises(error_type) as caught:
@@ -62,8 +60,7 @@ def test_undecodable_types_are_named_in_the_notes_while_counts_stay_available(co
     with open_bag(corpus / "edge_cases/ros1_empty_message_definition.bag") as bag:
         notes = bag.summary().notes
     assert notes == (
-        "led_array_msgs/msg/Status cannot be decoded: the bag stores no definition and it is not a "
-        "standard ROS type",
+        "led_array_msgs/msg/Status cannot be decoded: the bag stores no definition and it is not a standard ROS type",
     )
 
 

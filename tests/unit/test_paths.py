@@ -71,9 +71,7 @@ def test_extract_reads_nested_values_indexes_and_yaw() -> None:
     msg = make(
         STORE,
         ODOM,
-        pose={
-            "pose": {"position": {"x": 1.5}, "orientation": {"z": math.sin(yaw / 2), "w": math.cos(yaw / 2)}}
-        },
+        pose={"pose": {"position": {"x": 1.5}, "orientation": {"z": math.sin(yaw / 2), "w": math.cos(yaw / 2)}}},
     )
     assert extract(msg, parse_field_path("pose.pose.position.x")) == 1.5
     assert extract(msg, parse_field_path("pose.pose.orientation.yaw")) == pytest.approx(yaw)

@@ -97,9 +97,7 @@ def build_router(deps: BagStoreDeps, *, upload_dir: Path, max_upload_bytes: int)
         return JSONResponse(body, status_code=201 if created else 200)
 
     @router.get("/bags")
-    def list_all(
-        name: str | None = None, tag: str | None = None, offset: int = 0, limit: int = 50
-    ) -> BagList:
+    def list_all(name: str | None = None, tag: str | None = None, offset: int = 0, limit: int = 50) -> BagList:
         return queries.list_bags(deps, name=name, tag=tag, offset=offset, limit=limit)
 
     @router.get("/bags/{ref}")

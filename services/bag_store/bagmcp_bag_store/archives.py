@@ -48,9 +48,7 @@ def _extract_tar(path: Path, dest: Path, max_bytes: int) -> None:
         for member in members:
             _check_member(member.name)
             if not (member.isfile() or member.isdir()):
-                raise UploadError(
-                    f"the archive holds {member.name!r}, which is not a plain file; refusing it"
-                )
+                raise UploadError(f"the archive holds {member.name!r}, which is not a plain file; refusing it")
         archive.extractall(dest, filter="data")
 
 

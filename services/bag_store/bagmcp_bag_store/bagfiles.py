@@ -20,12 +20,34 @@ class BagFiles(Protocol):
         """A local path ``open_bag`` can read: the file, or the ROS 2 bag directory."""
         ...
 
+    def index_dir(self, record: BagRecord) -> Path | None:
+        """The local directory of the bag's columnar index, or None when it has none."""
+        ...
+
+    def publish_index(self, record: BagRecord, built: Path) -> list[str]:
+        """Make an index built in ``built`` available to every process; returns its file names."""
+        ...
+
 
 class FolderBagFiles:
-    """Embedded mode: bags are files and directories under one served folder."""
+    """Embedded mode: bags are files and directories under one served folder (read-only);
+    indexes go to a separate writable directory."""
 
-    def __init__(self, root: Path) -> None:
+    def __init__(self, root: Path, index_root: Path) -> None:
         self._root = root.resolve()
+        self._index_root = index_root
+        index_root.mkdir(parents=True, exist_ok=True)
+
+    def index_dir(self, record: BagRecord) -> Path | None:
+        path = self._index_root / record.id
+        return path if (path / _COMPLETE).exists() else None
+
+    def publish_index(self, record: BagRecord, built: Path) -> list[str]:
+        target = self._index_root / record.id
+        (built / _COMPLETE).touch()
+        shutil.rmtree(target, ignore_errors=True)
+        shutil.move(built, target)
+        return sorted(p.name for p in target.iterdir() if p.name != _COMPLETE)
 
     def path_for(self, record: BagRecord) -> Path:
         path = (self._root / record.source).resolve()
@@ -53,17 +75,18 @@ class CachedBagFiles:
             if (root / _COMPLETE).exists():
                 os.utime(root / _COMPLETE)
                 return self._local(record, root)
-            self._fetch(record, root)
+            self._fetch_objects([f"{record.source}/{name}" for name in record.files], root)
             self._evict(keep=record.id)
         return self._local(record, root)
 
-    def _fetch(self, record: BagRecord, root: Path) -> None:
-        partial = self._dir / f".partial-{record.id}-{os.getpid()}-{threading.get_ident()}"
+    def _fetch_objects(self, keys: list[str], root: Path) -> None:
+        """Download ``keys`` into ``root`` (named by their last part), all or nothing."""
+        partial = self._dir / f".partial-{root.name}-{os.getpid()}-{threading.get_ident()}"
         shutil.rmtree(partial, ignore_errors=True)
         partial.mkdir(parents=True)
         try:
-            for name in record.files:
-                self._store.download_to(f"{record.source}/{name}", partial / name)
+            for key in keys:
+                self._store.download_to(key, partial / key.rsplit("/", 1)[-1])
             (partial / _COMPLETE).touch()
             shutil.rmtree(root, ignore_errors=True)
             partial.rename(root)
@@ -77,14 +100,27 @@ class CachedBagFiles:
             if entry.name != keep and marker.exists():
                 size = sum(f.stat().st_size for f in entry.iterdir())
                 entries.append((marker.stat().st_mtime, size, entry))
-        total = sum(size for _, size, _ in entries) + sum(
-            f.stat().st_size for f in (self._dir / keep).iterdir()
-        )
+        total = sum(size for _, size, _ in entries) + sum(f.stat().st_size for f in (self._dir / keep).iterdir())
         for _, size, entry in sorted(entries):
             if total <= self._max_bytes:
                 break
             shutil.rmtree(entry, ignore_errors=True)
             total -= size
+
+    def index_dir(self, record: BagRecord) -> Path | None:
+        if not record.index_files:
+            return None
+        root = self._dir / f"{record.id}-index"
+        with self._lock:
+            if not (root / _COMPLETE).exists():
+                self._fetch_objects([f"indexes/{record.id}/columns/{n}" for n in record.index_files], root)
+        return root
+
+    def publish_index(self, record: BagRecord, built: Path) -> list[str]:
+        names = sorted(p.name for p in built.iterdir() if p.is_file())
+        for name in names:
+            self._store.put_file(f"indexes/{record.id}/columns/{name}", built / name)
+        return names
 
     def forget(self, bag_id: str) -> None:
         shutil.rmtree(self._dir / bag_id, ignore_errors=True)

@@ -7,17 +7,26 @@ from dataclasses import dataclass
 
 from bagmcp_bag_store.bagfiles import BagFiles
 from bagmcp_bag_store.catalog import Catalog
+from bagmcp_bag_store.jobs import JobStore
 from bagmcp_shared.storage import ObjectStore
 
-IngestSubmitter = Callable[[str], None]
+Submitter = Callable[[str], None]
 
 
 @dataclass(frozen=True)
 class BagStoreDeps:
-    """``store`` is the writable object store (None when serving a read-only folder)."""
+    """``store`` is the writable object store (None when serving a read-only folder).
+
+    ``submit_ingest`` and ``submit_job`` hand a bag id / job id to whatever runs background work
+    (Celery in team mode, a thread pool when embedded). ``job_budget_s`` is how long a tool waits
+    for its job before answering with the job id instead.
+    """
 
     catalog: Catalog
     files: BagFiles
-    submit_ingest: IngestSubmitter
+    jobs: JobStore
+    submit_ingest: Submitter
+    submit_job: Submitter
     store: ObjectStore | None = None
     max_result_bytes: int = 16_000
+    job_budget_s: float = 20.0

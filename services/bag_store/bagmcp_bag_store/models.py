@@ -30,6 +30,7 @@ class BagRecord(BaseModel):
     created_at: float
     tags: list[str] = Field(default_factory=list)
     summary: dict[str, JsonValue] | None = None
+    index_files: list[str] = Field(default_factory=list)
 
     def summary_value(self, key: str) -> JsonValue:
         return self.summary.get(key) if self.summary else None

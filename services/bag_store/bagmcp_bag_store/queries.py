@@ -36,9 +36,7 @@ def _instant(value: JsonValue, start_ns: int) -> Instant | None:
         return None
     stamp_ns = value["epoch_ns"]
     assert isinstance(stamp_ns, int)
-    return Instant(
-        offset_s=round((stamp_ns - start_ns) / 1e9, 9), stamp_s=stamp_ns / 1e9, iso=str(value.get("iso"))
-    )
+    return Instant(offset_s=round((stamp_ns - start_ns) / 1e9, 9), stamp_s=stamp_ns / 1e9, iso=str(value.get("iso")))
 
 
 def _start_ns(record: BagRecord) -> int:
@@ -70,9 +68,7 @@ def list_bags(
     if offset < 0 or not 1 <= limit <= 500:
         raise ArgumentError("offset must be >= 0 and limit between 1 and 500")
     records = [
-        r
-        for r in deps.catalog.all()
-        if (not name or name.lower() in r.name.lower()) and (not tag or tag in r.tags)
+        r for r in deps.catalog.all() if (not name or name.lower() in r.name.lower()) and (not tag or tag in r.tags)
     ]
     page = records[offset : offset + limit]
     following = offset + limit if offset + limit < len(records) else None
@@ -122,9 +118,7 @@ def _message_out(bag: OpenBag, raw: RawMessage, projection: list[tuple[Step, ...
     else:
         data = to_json(msg)
     header = header_stamp_ns(msg)
-    return MessageOut(
-        time=bag.instant(raw.log_time_ns), header_stamp_s=header / 1e9 if header else None, data=data
-    )
+    return MessageOut(time=bag.instant(raw.log_time_ns), header_stamp_s=header / 1e9 if header else None, data=data)
 
 
 def _projection(bag: OpenBag, topic: str, fields: list[str] | None) -> list[tuple[Step, ...]]:
@@ -253,9 +247,7 @@ def get_messages_in_range(
         begin, skip = _cursor(cursor) or (lo, 0)
         if not lo <= begin <= hi:
             raise ArgumentError("the cursor does not belong to this start/end window")
-        out, seen, following = _page(
-            ob, topic, projection, begin, skip, hi, max_messages, deps.max_result_bytes
-        )
+        out, seen, following = _page(ob, topic, projection, begin, skip, hi, max_messages, deps.max_result_bytes)
         before = sum(1 for _ in ob.reader.messages([topic], start_ns=lo, stop_ns=begin)) if begin > lo else 0
         return MessageRange(
             bag=ob.record.name,

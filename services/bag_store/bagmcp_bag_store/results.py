@@ -105,3 +105,80 @@ class MessageRange(BaseModel):
     truncated: bool
     next_cursor: str | None
     messages: list[MessageOut]
+
+
+class Correlated(BaseModel):
+    """The message of another topic nearest in time to a match (within the tolerance)."""
+
+    topic: str
+    time: Instant
+    delta_s: float
+    data: JsonValue
+
+
+class SearchMatch(BaseModel):
+    time: Instant
+    value: JsonValue
+    distance_m: float | None = None
+    correlated: Correlated | None = None
+
+
+class ClosestApproach(BaseModel):
+    distance_m: float
+    x: float
+    y: float
+    time: Instant
+
+
+class SearchResult(BaseModel):
+    bag: str
+    topic: str
+    condition: str
+    field: str | None
+    start: Instant
+    end: Instant
+    clock: Clock
+    scanned: int
+    total: int
+    returned: int
+    truncated: bool
+    matches: list[SearchMatch]
+    closest: ClosestApproach | None
+    source: Literal["index", "bag"]
+
+
+class JobInfo(BaseModel):
+    """A job as get_job reports it; ``result`` is set once it succeeded."""
+
+    job_id: str
+    kind: str
+    state: str
+    progress: float
+    message: str
+    error: str | None
+    result: JsonValue
+    created_at: float
+    updated_at: float
+
+
+class SearchAnswer(BaseModel):
+    """``result`` when the search finished within the time budget; otherwise follow ``job``."""
+
+    job: JobInfo
+    result: SearchResult | None
+
+
+class FilterResult(BaseModel):
+    bag_id: str
+    name: str
+    format: str
+    counts: dict[str, int]
+    message_count: int
+    created: bool
+
+
+class FilterAnswer(BaseModel):
+    """``result`` when the new bag was written within the time budget; otherwise follow ``job``."""
+
+    job: JobInfo
+    result: FilterResult | None

@@ -35,6 +35,7 @@ class BagStoreSettings:
     cache_max_bytes: int = 20 * 2**30
     max_upload_bytes: int = 50 * 2**30
     max_result_bytes: int = 16_000
+    job_budget_s: float = 20.0
     allowed_hosts: tuple[str, ...] = ("127.0.0.1:*", "localhost:*", "bag-store:*", "bag_store:*")
 
     @property
@@ -74,4 +75,5 @@ class BagStoreSettings:
             service_token=token,
             cache_max_bytes=int(env.get("BAGMCP_CACHE_MAX_BYTES", 20 * 2**30)),
             max_upload_bytes=int(env.get("BAGMCP_MAX_UPLOAD_BYTES", 50 * 2**30)),
+            job_budget_s=float(env.get("BAGMCP_JOB_BUDGET_S", 20.0)),
         )

@@ -8,8 +8,10 @@ from celery import Celery
 
 from bagmcp_bag_store.deps import BagStoreDeps
 from bagmcp_bag_store.ingest import ingest_bag
+from bagmcp_bag_store.jobrun import run_job
 
 INGEST_TASK = "bagmcp.bag_store.ingest"
+JOB_TASK = "bagmcp.bag_store.run_job"
 
 
 def create_celery(redis_url: str) -> Celery:
@@ -35,3 +37,7 @@ def register_tasks(app: Celery, deps: Callable[[], BagStoreDeps]) -> None:
     @app.task(name=INGEST_TASK, bind=True, max_retries=3, default_retry_delay=5)  # type: ignore[untyped-decorator]
     def ingest(self: object, bag_id: str) -> str:
         return ingest_bag(deps(), bag_id)
+
+    @app.task(name=JOB_TASK, bind=True)  # type: ignore[untyped-decorator]
+    def job(self: object, job_id: str) -> str:
+        return run_job(deps(), job_id)

@@ -60,9 +60,7 @@ def sanitize_name(text: str) -> str:
         base = base.removesuffix(suffix)
     clean = re.sub(r"[^A-Za-z0-9._-]+", "_", Path(base).name).strip("._-")[:100]
     if not clean:
-        raise UploadError(
-            f"{text!r} gives an empty name; pass a name made of letters, digits, '.', '_' or '-'"
-        )
+        raise UploadError(f"{text!r} gives an empty name; pass a name made of letters, digits, '.', '_' or '-'")
     return clean
 
 
@@ -93,6 +91,40 @@ def _put_all(store: ObjectStore, root: Path, files: list[str], prefix: str) -> N
         raise
 
 
+def register_bag(
+    deps: BagStoreDeps, root: Path, files: list[str], sha: str, *, name: str, tags: list[str]
+) -> tuple[BagRecord, bool]:
+    """Store a validated bag's files and list it; returns (record, created). Same content = same bag.
+
+    The catalog entry appears only after every object is stored; a failure removes what was stored.
+    """
+    if deps.store is None:
+        raise ReadOnlyError("this server serves a read-only folder of bags; it cannot store new bags")
+    bag_id = sha[:16]
+    if (existing := deps.catalog.get(bag_id)) is not None:
+        return existing, False
+    deps.catalog.claim_name(name, bag_id)
+    try:
+        _put_all(deps.store, root, files, f"bags/{bag_id}")
+        size = sum((root if root.is_file() else root / f).stat().st_size for f in files)
+        record = BagRecord(
+            id=bag_id,
+            name=name,
+            layout="file" if root.is_file() else "directory",
+            files=files,
+            source=f"bags/{bag_id}",
+            sha256=sha,
+            size_bytes=size,
+            created_at=time.time(),
+            tags=tags,
+        )
+        deps.catalog.put(record)
+    except BaseException:
+        deps.catalog.release_name(name, bag_id)
+        raise
+    return record, True
+
+
 def store_upload(
     deps: BagStoreDeps,
     received: Received,
@@ -112,34 +144,14 @@ def store_upload(
         root, files, sha = _layout(received, staging, filename, max_bytes)
         with open_bag(root) as bag:
             bag.summary()
-        bag_id = sha[:16]
-        if (existing := deps.catalog.get(bag_id)) is not None:
-            return existing, False
-        bag_name = sanitize_name(name or filename)
-        deps.catalog.claim_name(bag_name, bag_id)
-        try:
-            _put_all(deps.store, root, files, f"bags/{bag_id}")
-            record = BagRecord(
-                id=bag_id,
-                name=bag_name,
-                layout="file" if root.is_file() else "directory",
-                files=files,
-                source=f"bags/{bag_id}",
-                sha256=sha,
-                size_bytes=sum((root if root.is_file() else root / f).stat().st_size for f in files),
-                created_at=time.time(),
-                tags=tags,
-            )
-            deps.catalog.put(record)
-        except BaseException:
-            deps.catalog.release_name(bag_name, bag_id)
-            raise
-        try:
-            deps.submit_ingest(bag_id)
-        except Exception as err:
-            delete_bag(deps, record)
-            raise StorageError(f"the ingest task could not be queued ({err}); nothing was stored") from err
-        return record, True
+        record, created = register_bag(deps, root, files, sha, name=sanitize_name(name or filename), tags=tags)
+        if created:
+            try:
+                deps.submit_ingest(record.id)
+            except Exception as err:
+                delete_bag(deps, record)
+                raise StorageError(f"the ingest task could not be queued ({err}); nothing was stored") from err
+        return record, created
     finally:
         shutil.rmtree(staging, ignore_errors=True)
         received.path.unlink(missing_ok=True)
@@ -153,3 +165,5 @@ def delete_bag(deps: BagStoreDeps, record: BagRecord) -> None:
     for name in record.files:
         deps.store.delete(f"{record.source}/{name}")
     deps.store.delete(f"indexes/{record.id}/summary.json")
+    for name in record.index_files:
+        deps.store.delete(f"indexes/{record.id}/columns/{name}")

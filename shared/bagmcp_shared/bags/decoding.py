@@ -64,8 +64,7 @@ class Decoder:
             return store.deserialize_cdr(raw.data, conn.msgtype)
         except Exception as err:  # rosbags raises SerdeError, struct.error, IndexError...
             raise DecodeError(
-                f"message of {conn.topic} ({conn.msgtype}) at {raw.log_time_ns} ns "
-                f"could not be decoded: {err}"
+                f"message of {conn.topic} ({conn.msgtype}) at {raw.log_time_ns} ns could not be decoded: {err}"
             ) from err
 
     def _add(self, conn: Connection) -> None:
@@ -85,9 +84,7 @@ class Decoder:
         if conn.encoding is Encoding.ROS1 and conn.digest:
             have = store.generate_msgdef(conn.msgtype)[1]
             if have != conn.digest:
-                self._problems[conn.msgtype] = (
-                    f"its stored definition does not match its md5 ({have} != {conn.digest})"
-                )
+                self._problems[conn.msgtype] = f"its stored definition does not match its md5 ({have} != {conn.digest})"
                 return
         self._stores[conn.msgtype] = store
 
@@ -97,11 +94,7 @@ class Decoder:
         if msgtype not in store.fielddefs:
             self._problems[conn.msgtype] = "the bag stores no definition and it is not a standard ROS type"
             return
-        if (
-            conn.encoding is Encoding.ROS1
-            and conn.digest
-            and store.generate_msgdef(msgtype)[1] != conn.digest
-        ):
+        if conn.encoding is Encoding.ROS1 and conn.digest and store.generate_msgdef(msgtype)[1] != conn.digest:
             self._problems[conn.msgtype] = (
                 "the bag stores no definition and the standard type's md5 differs from the bag's"
             )

@@ -7,10 +7,7 @@ from pathlib import Path
 from bagmcp_shared.bags.models import BagFormat
 from bagmcp_shared.errors import BagError, EmptyFileError, UnsupportedFormatError
 
-_LEGACY = (
-    "a ROS bag in the legacy format 1.x (before 2010); "
-    "convert it to format 2.0 with ROS 1's `rosbag` tools first"
-)
+_LEGACY = "a ROS bag in the legacy format 1.x (before 2010); convert it to format 2.0 with ROS 1's `rosbag` tools first"
 _MAGICS: tuple[tuple[bytes, BagFormat | str], ...] = (
     (b"#ROSBAG V2.0", BagFormat.ROS1),
     (b"\x89MCAP0\r\n", BagFormat.MCAP),

@@ -219,9 +219,7 @@ class McapSource:
         except _READ_ERRORS as err:
             raise DamagedBagError(f"{self._path}: a chunk could not be read ({err})") from err
 
-    def _streamed(
-        self, ids: Collection[int], start_ns: int | None, stop_ns: int | None
-    ) -> Iterator[RawMessage]:
+    def _streamed(self, ids: Collection[int], start_ns: int | None, stop_ns: int | None) -> Iterator[RawMessage]:
         by_id = {c.id: c for c in self._connections if c.id in set(ids)}
         try:
             for item in _stream_records(self._file):
@@ -229,9 +227,7 @@ class McapSource:
                     return
                 if not isinstance(item, Message) or (conn := by_id.get(item.channel_id)) is None:
                     continue
-                if (start_ns is None or item.log_time >= start_ns) and (
-                    stop_ns is None or item.log_time < stop_ns
-                ):
+                if (start_ns is None or item.log_time >= start_ns) and (stop_ns is None or item.log_time < stop_ns):
                     yield RawMessage(conn, item.log_time, item.data)
         except _READ_ERRORS:
             return  # the cut was reported when the file was opened

@@ -83,9 +83,7 @@ def _disagreements(info: dict[str, object] | None, connections: Sequence[Connect
         if fmt != "cdr":
             notes.append(f"metadata.yaml declares serialization {fmt!r} for {topic}; the storage says cdr")
         if topic in actual and actual[topic] != count:
-            notes.append(
-                f"metadata.yaml declares {count} messages on {topic}; the storage holds {actual[topic]}"
-            )
+            notes.append(f"metadata.yaml declares {count} messages on {topic}; the storage holds {actual[topic]}")
     return notes
 
 

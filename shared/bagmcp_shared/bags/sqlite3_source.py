@@ -76,9 +76,7 @@ class Sqlite3Source:
             text, dfmt = defs.get(str(typ), ("", ""))
             count = stats.get(int(tid), (0, 0, 0))[0]
             meta = (("offered_qos_profiles", str(qos)),) if qos else ()
-            connections.append(
-                Connection(int(tid), str(name), str(typ), Encoding.CDR, text, dfmt, count, "", meta)
-            )
+            connections.append(Connection(int(tid), str(name), str(typ), Encoding.CDR, text, dfmt, count, "", meta))
         bounds = {tid: (lo, hi) for tid, (_, lo, hi) in stats.items()}
         return connections, bounds
 

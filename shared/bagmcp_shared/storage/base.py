@@ -87,9 +87,7 @@ def validate_prefix(prefix: str) -> str:
     """Return ``prefix`` if it is "" or a valid key followed by '/', else raise InvalidKeyError."""
     if prefix == "" or (isinstance(prefix, str) and prefix.endswith("/") and is_valid_key(prefix[:-1])):
         return prefix
-    raise InvalidKeyError(
-        f"Listing prefix {prefix!r} is invalid: use '' or a valid key followed by '/'; {_KEY_RULE}."
-    )
+    raise InvalidKeyError(f"Listing prefix {prefix!r} is invalid: use '' or a valid key followed by '/'; {_KEY_RULE}.")
 
 
 def is_valid_key(key: str) -> bool:
@@ -102,9 +100,7 @@ def is_valid_key(key: str) -> bool:
 def check_range(offset: int, length: int) -> None:
     """Reject negative offsets and lengths."""
     if offset < 0 or length < 0:
-        raise StorageError(
-            f"A byte range needs offset >= 0 and length >= 0, got offset={offset}, length={length}."
-        )
+        raise StorageError(f"A byte range needs offset >= 0 and length >= 0, got offset={offset}, length={length}.")
 
 
 def write_atomically(path: Path, stream: BinaryIO, *, length: int | None = None) -> int:

@@ -31,9 +31,7 @@ class LocalStore(StreamPutters):
             try:
                 self._root.mkdir(parents=True, exist_ok=True)
             except OSError as err:
-                raise StorageError(
-                    f"Cannot create the store directory {self._root}: {err.strerror or err}."
-                ) from err
+                raise StorageError(f"Cannot create the store directory {self._root}: {err.strerror or err}.") from err
 
     @property
     def root(self) -> Path:

@@ -1,0 +1,274 @@
+"""search_messages: typed conditions over a topic, answered from the columnar index when it can."""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Iterator
+from dataclasses import dataclass
+
+import numpy as np
+import numpy.typing as npt
+from pydantic import JsonValue
+
+from bagmcp_bag_store.conditions import (
+    NUMERIC_CONDITIONS,
+    BoundedRegex,
+    check_value,
+    parse_between,
+    parse_near,
+)
+from bagmcp_bag_store.correlate import correlate
+from bagmcp_bag_store.deps import BagStoreDeps
+from bagmcp_bag_store.errors import ArgumentError
+from bagmcp_bag_store.opened import OpenBag, opened
+from bagmcp_bag_store.results import ClosestApproach, SearchMatch, SearchResult
+from bagmcp_shared.columns import ColumnIndex, read_series
+from bagmcp_shared.errors import MessagePathError
+from bagmcp_shared.jsonify import to_json
+from bagmcp_shared.paths import check_steps, extract, parse_field_path
+
+Progress = Callable[[float, str], None]
+OBVIOUS_SCALAR = {
+    "nav_msgs/msg/Odometry": "twist.twist.linear.x",
+    "geometry_msgs/msg/Twist": "linear.x",
+    "geometry_msgs/msg/TwistStamped": "twist.linear.x",
+    "sensor_msgs/msg/LaserScan": "min_range",
+    "sensor_msgs/msg/BatteryState": "percentage",
+    "sensor_msgs/msg/Range": "range",
+    "sensor_msgs/msg/Temperature": "temperature",
+    "sensor_msgs/msg/NavSatFix": "altitude",
+    "rosgraph_msgs/msg/Log": "level",
+    "rcl_interfaces/msg/Log": "level",
+}
+POSITION_FIELD = {
+    "nav_msgs/msg/Odometry": "pose.pose.position",
+    "geometry_msgs/msg/PoseStamped": "pose.position",
+    "geometry_msgs/msg/PoseWithCovarianceStamped": "pose.pose.position",
+    "geometry_msgs/msg/Pose": "position",
+    "geometry_msgs/msg/Point": "",
+    "geometry_msgs/msg/PointStamped": "point",
+}
+
+
+@dataclass(frozen=True)
+class Request:
+    bag: str
+    topic: str
+    condition: str
+    value: JsonValue
+    field: str | None
+    start: float | str | None
+    end: float | str | None
+    limit: int
+    correlate_topic: str | None
+    correlate_tolerance_s: float
+
+    @classmethod
+    def from_params(cls, p: dict[str, JsonValue]) -> Request:
+        def time_of(key: str) -> float | str | None:
+            value = p.get(key)
+            return value if isinstance(value, int | float | str) and not isinstance(value, bool) else None
+
+        limit = p.get("limit", 20)
+        tolerance = p.get("correlate_tolerance", 0.1)
+        return cls(
+            bag=str(p["bag"]),
+            topic=str(p["topic"]),
+            condition=str(p["condition"]),
+            value=p.get("value"),
+            field=str(p["field"]) if p.get("field") else None,
+            start=time_of("start"),
+            end=time_of("end"),
+            limit=int(limit) if isinstance(limit, int) else 20,
+            correlate_topic=str(p["correlate_topic"]) if p.get("correlate_topic") else None,
+            correlate_tolerance_s=float(tolerance) if isinstance(tolerance, int | float) else 0.1,
+        )
+
+
+@dataclass
+class Found:
+    """Indexes (into the window's messages) that matched, with times and values to show."""
+
+    t_ns: npt.NDArray[np.int64]
+    mask: npt.NDArray[np.bool_]
+    values: list[JsonValue]
+    source: str
+    distance: npt.NDArray[np.float64] | None = None
+    xy: tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]] | None = None
+
+
+def _scalar_field(ob: OpenBag, topic: str, field: str | None) -> str:
+    msgtype = ob.reader.topic_connections(topic)[0].msgtype
+    chosen = field or OBVIOUS_SCALAR.get(msgtype) or ("data" if msgtype.startswith("std_msgs/msg/") else None)
+    if chosen is None:
+        raise ArgumentError(f"{msgtype} has no obvious number to compare; pass `field`, e.g. from describe_topic")
+    return chosen
+
+
+def _numeric(ob: OpenBag, req: Request, index: ColumnIndex | None, lo: int, hi: int) -> Found:
+    field = _scalar_field(ob, req.topic, req.field)
+    series = read_series(ob.reader, req.topic, [field], index=index, start_ns=lo, stop_ns=hi + 1)
+    try:
+        values = series.columns[field].astype(np.float64)
+    except (TypeError, ValueError) as err:
+        raise ArgumentError(f"{field} is not numeric; use contains, regex or equals with a string") from err
+    if req.condition == "greater_than":
+        mask = values > float(req.value)  # type: ignore[arg-type]
+    elif req.condition == "less_than":
+        mask = values < float(req.value)  # type: ignore[arg-type]
+    elif req.condition == "between":
+        low, high = parse_between(req.value)
+        mask = (values >= low) & (values <= high)
+    else:
+        equal = np.isclose(values, float(req.value), rtol=0.0, atol=1e-9)  # type: ignore[arg-type]
+        mask = equal if req.condition == "equals" else ~equal
+    return Found(series.t_ns, mask, [float(v) for v in values[mask]], series.source)
+
+
+def _near(ob: OpenBag, req: Request, index: ColumnIndex | None, lo: int, hi: int) -> Found:
+    target = parse_near(req.value)
+    msgtype = ob.reader.topic_connections(req.topic)[0].msgtype
+    base = req.field if req.field is not None else POSITION_FIELD.get(msgtype)
+    if base is None:
+        raise ArgumentError(f"{msgtype} has no obvious position; pass `field` naming a point, e.g. pose.position")
+    columns = [f"{base}.x" if base else "x", f"{base}.y" if base else "y"]
+    series = read_series(ob.reader, req.topic, columns, index=index, start_ns=lo, stop_ns=hi + 1)
+    xs, ys = (series.columns[c].astype(np.float64) for c in columns)
+    distance = np.hypot(xs - target.x, ys - target.y)
+    mask = distance <= target.radius
+    values: list[JsonValue] = [{"x": float(x), "y": float(y)} for x, y in zip(xs[mask], ys[mask], strict=True)]
+    return Found(series.t_ns, mask, values, series.source, distance, (xs, ys))
+
+
+def _texts(value: object) -> Iterator[str]:
+    if isinstance(value, str):
+        yield value
+    elif isinstance(value, list | tuple):
+        for item in value:
+            yield from _texts(item)
+    elif hasattr(value, "__dataclass_fields__"):
+        for name in value.__dataclass_fields__:
+            if not name.startswith("__"):
+                yield from _texts(getattr(value, name))
+
+
+def _text_test(req: Request) -> Callable[[str], bool]:
+    wanted = str(req.value)
+    if req.condition == "regex":
+        return BoundedRegex(wanted).search
+    if req.condition == "contains":
+        return lambda text: wanted.casefold() in text.casefold()
+    if req.condition == "equals":
+        return lambda text: text == wanted
+    return lambda text: text != wanted
+
+
+def _present(value: object) -> bool:
+    return not (isinstance(value, str | list | tuple | bytes | np.ndarray) and len(value) == 0)
+
+
+def _decoded(ob: OpenBag, req: Request, lo: int, hi: int, progress: Progress) -> Found:
+    """Conditions that need each message decoded: text searches and field_exists."""
+    steps = parse_field_path(req.field) if req.field else None
+    msgtype = ob.reader.topic_connections(req.topic)[0].msgtype
+    if steps is not None:
+        check_steps(ob.reader.decoder.typestore(msgtype), msgtype, steps)
+    elif req.condition == "field_exists":
+        raise ArgumentError("field_exists needs `field`, the message path to look for")
+    test = _text_test(req) if req.condition != "field_exists" else None
+    expected = max(ob.reader.summary().topic(req.topic).count, 1)  # type: ignore[union-attr]
+    times, hits, shown = [], [], []
+    for number, raw in enumerate(ob.reader.messages([req.topic], start_ns=lo, stop_ns=hi + 1)):
+        message = ob.reader.decode(raw)
+        try:
+            picked = extract(message, steps) if steps is not None else None
+        except MessagePathError:
+            picked, exists = None, False
+        else:
+            exists = True
+        if test is None:
+            hit, shown_value = exists and _present(picked), to_json(picked, max_items=8)
+        else:
+            texts = [str(picked)] if steps is not None else list(_texts(message))
+            found = next((t for t in texts if test(t)), None)
+            hit, shown_value = found is not None, (found or "")[:300]
+        times.append(raw.log_time_ns)
+        hits.append(hit)
+        if hit:
+            shown.append(shown_value)
+        if number % 500 == 0:
+            progress(min(number / expected, 0.99), f"searched {number} messages of {req.topic}")
+    return Found(np.asarray(times, dtype=np.int64), np.asarray(hits, dtype=bool), shown, "bag")
+
+
+def _closest(ob: OpenBag, found: Found) -> ClosestApproach | None:
+    if found.distance is None or found.xy is None or not len(found.distance):
+        return None
+    best = int(np.argmin(found.distance))
+    return ClosestApproach(
+        distance_m=float(found.distance[best]),
+        x=float(found.xy[0][best]),
+        y=float(found.xy[1][best]),
+        time=ob.instant(int(found.t_ns[best])),
+    )
+
+
+def search_messages(
+    deps: BagStoreDeps, params: dict[str, JsonValue], progress: Progress, *, use_index: bool = True
+) -> SearchResult:
+    req = Request.from_params(params)
+    check_value(req.condition, req.value)
+    if not 1 <= req.limit <= 200:
+        raise ArgumentError("limit must be between 1 and 200")
+    with opened(deps, req.bag) as ob:
+        topic = ob.reader.topic_connections(req.topic)[0].topic
+        req = Request(**{**req.__dict__, "topic": topic})
+        index = ColumnIndex.load(deps.files.index_dir(ob.record)) if use_index else None
+        lo = ob.time(req.start, what="start") if req.start is not None else ob.start_ns
+        hi = ob.time(req.end, what="end") if req.end is not None else ob.end_ns
+        if lo > hi:
+            raise ArgumentError("start must not be after end")
+        numeric = req.condition in NUMERIC_CONDITIONS or (
+            req.condition in ("equals", "not_equals")
+            and isinstance(req.value, int | float)
+            and not isinstance(req.value, bool)
+        )
+        if req.condition == "near_position":
+            found = _near(ob, req, index, lo, hi)
+        elif numeric:
+            found = _numeric(ob, req, index, lo, hi)
+        else:
+            found = _decoded(ob, req, lo, hi, progress)
+        hit_times = found.t_ns[found.mask]
+        shown = [int(t) for t in hit_times[: req.limit]]
+        partners = (
+            correlate(ob, index, req.correlate_topic, shown, tolerance_ns=int(req.correlate_tolerance_s * 1e9))
+            if req.correlate_topic
+            else [None] * len(shown)
+        )
+        distances = found.distance[found.mask] if found.distance is not None else None
+        matches = [
+            SearchMatch(
+                time=ob.instant(t),
+                value=found.values[i],
+                correlated=partners[i],
+                distance_m=float(distances[i]) if distances is not None else None,
+            )
+            for i, t in enumerate(shown)
+        ]
+        progress(1.0, "done")
+        return SearchResult(
+            bag=ob.record.name,
+            topic=topic,
+            condition=req.condition,
+            field=req.field,
+            start=ob.instant(lo),
+            end=ob.instant(hi),
+            clock="log_time",
+            scanned=len(found.t_ns),
+            total=int(found.mask.sum()),
+            returned=len(matches),
+            truncated=len(hit_times) > len(matches),
+            matches=matches,
+            closest=_closest(ob, found),
+            source="index" if found.source == "index" else "bag",
+        )

@@ -1,0 +1,240 @@
+"""The columnar index: time series of common numeric message types, extracted once at ingest.
+
+Stored as one uncompressed ``.npz`` per topic (numpy arrays keyed by column name) plus a JSON
+manifest. Columns are named by message path (``pose.pose.position.x``) or, for derived values,
+by a plain name (``min_range``). ``read_series`` answers from the index when it has every column
+asked for and decodes the bag otherwise; both give the same arrays.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from collections.abc import Callable, Iterable
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Protocol, cast
+
+import numpy as np
+import numpy.typing as npt
+
+from bagmcp_shared.bags import BagReader
+from bagmcp_shared.errors import MessagePathError
+from bagmcp_shared.paths import check_steps, extract, parse_field_path
+from bagmcp_shared.timebase import header_stamp_ns
+
+MANIFEST = "manifest.json"
+Getter = Callable[[object], float | int | str]
+
+_XYZ = ("x", "y", "z")
+_ANGLES = ("roll", "pitch", "yaw")
+
+
+def _vec(prefix: str, names: Iterable[str] = _XYZ) -> tuple[str, ...]:
+    return tuple(f"{prefix}.{n}" for n in names)
+
+
+_POSE = (*_vec("position"), *_vec("orientation", _ANGLES))
+_TWIST = (*_vec("linear"), *_vec("angular"))
+_NUMBERS = (
+    "Float32",
+    "Float64",
+    "Int8",
+    "Int16",
+    "Int32",
+    "Int64",
+    "UInt8",
+    "UInt16",
+    "UInt32",
+    "UInt64",
+    "Bool",
+)
+INDEXED_COLUMNS: dict[str, tuple[str, ...]] = {
+    "nav_msgs/msg/Odometry": (*(f"pose.pose.{c}" for c in _POSE), *(f"twist.twist.{c}" for c in _TWIST)),
+    "geometry_msgs/msg/Pose": _POSE,
+    "geometry_msgs/msg/PoseStamped": tuple(f"pose.{c}" for c in _POSE),
+    "geometry_msgs/msg/PoseWithCovarianceStamped": tuple(f"pose.pose.{c}" for c in _POSE),
+    "geometry_msgs/msg/Twist": _TWIST,
+    "geometry_msgs/msg/TwistStamped": tuple(f"twist.{c}" for c in _TWIST),
+    "sensor_msgs/msg/Imu": (
+        *_vec("orientation", _ANGLES),
+        *_vec("angular_velocity"),
+        *_vec("linear_acceleration"),
+    ),
+    "sensor_msgs/msg/NavSatFix": ("latitude", "longitude", "altitude", "status.status"),
+    "sensor_msgs/msg/BatteryState": ("voltage", "current", "percentage"),
+    "sensor_msgs/msg/LaserScan": ("min_range", "min_bearing"),
+    "rosgraph_msgs/msg/Log": ("level", "name", "msg"),
+    "rcl_interfaces/msg/Log": ("level", "name", "msg"),
+    **{f"std_msgs/msg/{n}": ("data",) for n in _NUMBERS},
+}
+
+
+class _Scan(Protocol):
+    ranges: npt.ArrayLike
+    range_min: float
+    range_max: float
+    angle_min: float
+    angle_increment: float
+
+
+def scan_minimum(message: object) -> tuple[float, float]:
+    """Closest valid range of a LaserScan and its bearing (rad); NaN when no beam is valid."""
+    scan = cast(_Scan, message)
+    ranges = np.asarray(scan.ranges, dtype=np.float64)
+    low, high = float(scan.range_min), float(scan.range_max)
+    valid = np.isfinite(ranges) & (ranges >= low) & (ranges <= high)
+    if not valid.any():
+        return math.nan, math.nan
+    index = int(np.argmin(np.where(valid, ranges, np.inf)))
+    return float(ranges[index]), float(scan.angle_min) + index * float(scan.angle_increment)
+
+
+DERIVED: dict[str, Getter] = {
+    "min_range": lambda m: scan_minimum(m)[0],
+    "min_bearing": lambda m: scan_minimum(m)[1],
+}
+
+
+def column_getter(reader: BagReader, msgtype: str, column: str) -> Getter:
+    """A function reading ``column`` from a decoded message; wrong paths raise MessagePathError."""
+    if column in DERIVED and msgtype == "sensor_msgs/msg/LaserScan":
+        return DERIVED[column]
+    steps = parse_field_path(column)
+    check_steps(reader.decoder.typestore(msgtype), msgtype, steps)
+    return lambda message: extract(message, steps)  # type: ignore[return-value]
+
+
+@dataclass(frozen=True)
+class Series:
+    """Aligned arrays: log times (ns), header stamps (ns, 0 when absent) and one array per column."""
+
+    t_ns: npt.NDArray[np.int64]
+    header_ns: npt.NDArray[np.int64]
+    columns: dict[str, npt.NDArray[np.generic]]
+    source: str  # "index" or "bag"
+
+    def window(self, start_ns: int | None, stop_ns: int | None) -> Series:
+        lo = 0 if start_ns is None else int(np.searchsorted(self.t_ns, start_ns, side="left"))
+        hi = len(self.t_ns) if stop_ns is None else int(np.searchsorted(self.t_ns, stop_ns, side="left"))
+        return Series(
+            self.t_ns[lo:hi],
+            self.header_ns[lo:hi],
+            {k: v[lo:hi] for k, v in self.columns.items()},
+            self.source,
+        )
+
+
+def decode_series(
+    reader: BagReader,
+    topic: str,
+    columns: Iterable[str],
+    *,
+    start_ns: int | None = None,
+    stop_ns: int | None = None,
+) -> Series:
+    """Decode ``topic`` and read ``columns`` of every message in the window."""
+    conn = reader.topic_connections(topic)[0]
+    names = list(columns)
+    getters = [column_getter(reader, conn.msgtype, c) for c in names]
+    times: list[int] = []
+    headers: list[int] = []
+    values: list[list[float | int | str]] = [[] for _ in names]
+    for raw in reader.messages([topic], start_ns=start_ns, stop_ns=stop_ns):
+        message = reader.decode(raw)
+        times.append(raw.log_time_ns)
+        headers.append(header_stamp_ns(message) or 0)
+        for column, getter in zip(values, getters, strict=True):
+            column.append(getter(message))
+    arrays = {name: np.asarray(column) for name, column in zip(names, values, strict=True)}
+    return Series(np.asarray(times, dtype=np.int64), np.asarray(headers, dtype=np.int64), arrays, "bag")
+
+
+def _slug(topic: str) -> str:
+    return (topic.strip("/").replace("/", "__") or "_root") + ".npz"
+
+
+def build_index(
+    reader: BagReader, directory: Path, progress: Callable[[float, str], None] | None = None
+) -> dict[str, dict[str, object]]:
+    """Extract the columns of every indexed topic into ``directory``; returns the manifest."""
+    directory.mkdir(parents=True, exist_ok=True)
+    manifest: dict[str, dict[str, object]] = {}
+    topics = [
+        c
+        for c in reader.connections
+        if c.msgtype in INDEXED_COLUMNS and c.count and c.msgtype not in reader.decoder.problems
+    ]
+    for number, conn in enumerate(topics):
+        try:
+            series = decode_series(reader, conn.topic, INDEXED_COLUMNS[conn.msgtype])
+        except MessagePathError:
+            continue  # a same-named type with a different definition: leave it to decoding
+        cast(Callable[..., None], np.savez)(
+            directory / _slug(conn.topic),
+            t_ns=series.t_ns,
+            header_ns=series.header_ns,
+            **{f"c:{k}": v for k, v in series.columns.items()},
+        )
+        manifest[conn.topic] = {
+            "file": _slug(conn.topic),
+            "type": conn.msgtype,
+            "columns": list(series.columns),
+            "count": len(series.t_ns),
+        }
+        if progress is not None:
+            progress((number + 1) / len(topics), f"indexed {conn.topic}")
+    (directory / MANIFEST).write_text(json.dumps(manifest, indent=1))
+    return manifest
+
+
+class ColumnIndex:
+    """A built index on local disk."""
+
+    def __init__(self, directory: Path) -> None:
+        self._dir = directory
+        self._manifest: dict[str, dict[str, object]] = json.loads((directory / MANIFEST).read_text())
+
+    @classmethod
+    def load(cls, directory: Path | None) -> ColumnIndex | None:
+        if directory is None or not (directory / MANIFEST).is_file():
+            return None
+        return cls(directory)
+
+    def columns(self, topic: str) -> list[str]:
+        entry = self._entry(topic)
+        names = entry.get("columns") if entry else None
+        return [str(n) for n in names] if isinstance(names, list) else []
+
+    def _entry(self, topic: str) -> dict[str, object] | None:
+        wanted = topic.lstrip("/")
+        return next((e for t, e in self._manifest.items() if t.lstrip("/") == wanted), None)
+
+    def has(self, topic: str, columns: Iterable[str]) -> bool:
+        known = set(self.columns(topic))
+        return bool(known) and all(c in known for c in columns)
+
+    def read(
+        self, topic: str, columns: Iterable[str], *, start_ns: int | None = None, stop_ns: int | None = None
+    ) -> Series:
+        entry = self._entry(topic)
+        assert entry is not None
+        with np.load(self._dir / str(entry["file"])) as data:
+            series = Series(data["t_ns"], data["header_ns"], {c: data[f"c:{c}"] for c in columns}, "index")
+        return series.window(start_ns, stop_ns)
+
+
+def read_series(
+    reader: BagReader,
+    topic: str,
+    columns: Iterable[str],
+    *,
+    index: ColumnIndex | None,
+    start_ns: int | None = None,
+    stop_ns: int | None = None,
+) -> Series:
+    """Columns of ``topic`` in a window: from the index when it has them all, else decoded."""
+    names = list(columns)
+    if index is not None and index.has(topic, names):
+        return index.read(topic, names, start_ns=start_ns, stop_ns=stop_ns)
+    return decode_series(reader, topic, names, start_ns=start_ns, stop_ns=stop_ns)

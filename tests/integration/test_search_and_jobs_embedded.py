@@ -1,0 +1,109 @@
+"""search_messages and jobs through `bagmcp serve` (embedded), plus index-vs-bag equivalence."""
+
+from __future__ import annotations
+
+import shutil
+from collections.abc import Iterator
+from pathlib import Path
+from typing import Any
+
+import anyio
+import pytest
+from mcp import Client
+
+from bagmcp_bag_store.search import search_messages
+from bagmcp_bag_store.wiring import folder_deps
+from tests.fixtures.bagfactory import BagKind, write_chatter_bag
+from tests.fixtures.mcp_client import call, http_client
+from tests.fixtures.processes import BIN, http_ok, service, wait_until
+from tests.fixtures.servers import free_port
+from tests.integration.search_checks import (
+    check_cancel_stops_a_running_job,
+    check_search,
+    check_slow_search_becomes_a_job_with_progress,
+)
+
+pytestmark = pytest.mark.anyio
+BAGS = ["scenario", "scenario_db3", "scenario_mcap"]
+CHATTER_MESSAGES = 300_000
+
+
+@pytest.fixture(scope="module")
+def folder(scenario_bags: dict[BagKind, Path], tmp_path_factory: pytest.TempPathFactory) -> Path:
+    folder = tmp_path_factory.mktemp("served-search")
+    for path in scenario_bags.values():
+        (shutil.copytree if path.is_dir() else shutil.copy)(path, folder / path.name)
+    write_chatter_bag(folder, count=CHATTER_MESSAGES)
+    return folder
+
+
+@pytest.fixture(scope="module")
+def served(folder: Path, tmp_path_factory: pytest.TempPathFactory) -> Iterator[str]:
+    port = free_port()
+    url = f"http://127.0.0.1:{port}"
+    env = {"BAGMCP_JOB_BUDGET_S": "0.3", "BAGMCP_INDEX_DIR": str(tmp_path_factory.mktemp("index"))}
+    with service(
+        "serve-search",
+        [str(BIN / "bagmcp"), "serve", "--bags", str(folder), "--port", str(port)],
+        env=env,
+        log_dir=tmp_path_factory.mktemp("logs"),
+        ready=http_ok(f"{url}/healthz"),
+    ):
+        yield f"{url}/mcp"
+
+
+async def _ready(client: Client) -> None:
+    with anyio.fail_after(120):
+        while any(b["status"] != "ready" for b in (await call(client, "list_bags"))["bags"]):
+            await anyio.sleep(0.2)
+
+
+async def test_search_answers_on_three_formats_through_the_embedded_server(served: str) -> None:
+    async with http_client(served, None) as client:
+        await _ready(client)
+        await check_search(client, BAGS)
+
+
+async def test_a_slow_search_becomes_a_job_that_get_job_follows_with_progress(served: str) -> None:
+    async with http_client(served, None) as client:
+        await _ready(client)
+        await check_slow_search_becomes_a_job_with_progress(client, "chatter")
+
+
+async def test_cancel_job_stops_a_running_search(served: str) -> None:
+    async with http_client(served, None) as client:
+        await _ready(client)
+        await check_cancel_stops_a_running_job(client, "chatter")
+
+
+def _strip(result: dict[str, Any]) -> dict[str, Any]:
+    return {k: v for k, v in result.items() if k != "source"}
+
+
+@pytest.mark.parametrize(
+    "params",
+    [
+        {"topic": "/odom", "condition": "near_position", "value": {"x": 2, "y": 2, "radius": 0.5}},
+        {
+            "topic": "/odom",
+            "condition": "greater_than",
+            "value": 1.0,
+            "field": "pose.pose.position.x",
+            "correlate_topic": "/cmd_vel",
+        },
+        {"topic": "/scan", "condition": "less_than", "value": 0.5},
+        {"topic": "/cmd_vel", "condition": "between", "value": [0.59, 0.66], "start": 1.0, "end": 8.0},
+        {"topic": "/rosout", "condition": "equals", "value": "goal reached", "field": "msg"},
+    ],
+)
+def test_index_and_bag_give_identical_search_results(folder: Path, tmp_path: Path, params: dict[str, Any]) -> None:
+    deps, runner = folder_deps(folder, index_root=tmp_path / "index")
+    wait_until(lambda: all(r.status != "ingesting" for r in deps.catalog.all()), timeout_s=120, what="ingest")
+    for bag in BAGS:
+        request = {"bag": bag, **params}
+        indexed = search_messages(deps, request, lambda f, m: None, use_index=True).model_dump(mode="json")
+        decoded = search_messages(deps, request, lambda f, m: None, use_index=False).model_dump(mode="json")
+        assert decoded["source"] == "bag"
+        assert _strip(indexed) == _strip(decoded)
+        assert indexed["total"] > 0
+    runner.pool.shutdown(wait=True)
