@@ -18,6 +18,7 @@ from bagmcp_bag_store.jobs import ProgressReporter
 from bagmcp_bag_store.opened import opened
 from bagmcp_bag_store.results import FilterResult
 from bagmcp_bag_store.upload import register_bag, sanitize_name
+from bagmcp_shared.bags import BagReader
 from bagmcp_shared.bags.writer import FilterSpec, OutputFormat, default_output, write_filtered
 
 
@@ -42,11 +43,9 @@ def _rates(value: JsonValue) -> tuple[tuple[str, float], ...]:
     return tuple(sorted(pairs))
 
 
-def _format(value: JsonValue, source_format: str) -> OutputFormat:
+def _format(value: JsonValue, reader: BagReader) -> OutputFormat:
     if value is None:
-        from bagmcp_shared.bags import BagFormat
-
-        return default_output(BagFormat(source_format))
+        return default_output(reader.format, reader.connections)
     try:
         return OutputFormat(str(value))
     except ValueError as err:
@@ -74,7 +73,7 @@ def filter_bag(
             end_ns=ob.time(end, what="end") if isinstance(end, int | float | str) else None,
             rates_hz=_rates(params.get("rates")),
         )
-        fmt = _format(params.get("format"), ob.reader.format.value)
+        fmt = _format(params.get("format"), ob.reader)
         name = sanitize_name(str(params.get("name") or _default_name(ob.record.name, params)))
         cancelled = getattr(report, "cancelled", None)
         written = write_filtered(

@@ -1,0 +1,485 @@
+"""Write a filtered copy of a bag: chosen topics, a time window, per-topic rate limits, any format.
+
+Within one family (ROS 1 -> ROS 1, ROS 2 -> ROS 2) payloads are copied byte for byte with their
+definitions, ROS 1 latching/callerid and ROS 2 QoS. Across families they are converted with
+rosbags' byte-level converters and the definitions are generated for the target family.
+The output is all or nothing: a failure or a cancellation removes what was written.
+"""
+
+from __future__ import annotations
+
+import math
+import shutil
+import sqlite3
+import struct
+from collections.abc import Callable, Iterable
+from contextlib import suppress
+from dataclasses import dataclass
+from enum import StrEnum
+from functools import partial
+from pathlib import Path
+
+from rosbags.interfaces import Connection as RbConnection
+from rosbags.interfaces import (
+    Nodetype,
+    Qos,
+    QosDurability,
+    QosHistory,
+    QosLiveliness,
+    QosReliability,
+    QosTime,
+)
+from rosbags.interfaces.typing import FieldDesc, Typesdict
+from rosbags.rosbag1 import Writer as Ros1Writer
+from rosbags.rosbag1 import WriterError as Ros1WriterError
+from rosbags.rosbag2 import ReaderError as Ros2ReaderError
+from rosbags.rosbag2 import StoragePlugin
+from rosbags.rosbag2 import Writer as Ros2Writer
+from rosbags.rosbag2 import WriterError as Ros2WriterError
+from rosbags.rosbag2.metadata import parse_qos
+from rosbags.serde import SerdeError
+from rosbags.typesys import Stores, TypesysError, get_typestore
+from rosbags.typesys.store import Typestore
+
+from bagmcp_shared.bags.models import BagFormat, Connection, Encoding
+from bagmcp_shared.bags.reader import BagReader
+from bagmcp_shared.errors import BagmcpError, DecodeError
+
+_HEADER = "std_msgs/msg/Header"
+_IDL_SEPARATOR = "=" * 80 + "\n"
+_PROGRESS_EVERY = 1000  # messages between progress reports (fewer for small selections)
+_WRITE_ERRORS = (Ros1WriterError, Ros2WriterError, sqlite3.Error, OSError, struct.error)
+# For a type whose hash cannot be computed: what rosidl_stringify_type_hash prints for the
+# zero-initialized (unset) hash. rosbag2 itself writes "" then, which rosbags' writer refuses.
+_UNSET_RIHS01 = "RIHS01_" + "0" * 64
+_FOREVER = QosTime(2147483647, 4294967295)
+# What ``rosbags convert`` offers for a latched ROS 1 topic: reliable, transient local.
+_LATCHED_QOS = (
+    Qos(
+        QosHistory.UNKNOWN,
+        0,
+        QosReliability.RELIABLE,
+        QosDurability.TRANSIENT_LOCAL,
+        _FOREVER,
+        _FOREVER,
+        QosLiveliness.AUTOMATIC,
+        _FOREVER,
+        avoid_ros_namespace_conventions=False,
+    ),
+)
+
+Convert = Callable[[bytes], bytes | memoryview]
+Progress = Callable[[float, str], None]
+AnyWriter = Ros1Writer | Ros2Writer
+
+
+class OutputFormat(StrEnum):
+    """The container a filtered copy is written as."""
+
+    ROS1 = "ros1"
+    ROS2_SQLITE3 = "ros2-sqlite3"
+    ROS2_MCAP = "ros2-mcap"
+
+
+class FilterError(BagmcpError):
+    """A filter request is invalid, or the filtered bag could not be written."""
+
+
+class FilterCancelled(BagmcpError):  # noqa: N818 (a cancellation, not an error; name is the API)
+    """The caller cancelled writing a filtered bag; nothing was left on disk."""
+
+
+def default_output(fmt: BagFormat, connections: Iterable[Connection] = ()) -> OutputFormat:
+    """The output format closest to the input; a bare MCAP whose channels are all ROS 1 gives ROS 1."""
+    if fmt is BagFormat.ROS1:
+        return OutputFormat.ROS1
+    if fmt is BagFormat.ROS2_SQLITE3:
+        return OutputFormat.ROS2_SQLITE3
+    encodings = {c.encoding for c in connections}
+    if fmt is BagFormat.MCAP and encodings == {Encoding.ROS1}:
+        return OutputFormat.ROS1
+    return OutputFormat.ROS2_MCAP
+
+
+@dataclass(frozen=True)
+class FilterSpec:
+    """Which messages to copy. Topic names match with or without their leading slash.
+
+    ``include_topics`` None selects every topic; ``exclude_topics`` is applied after it.
+    ``start_ns``/``end_ns`` are inclusive log times. ``rates_hz`` caps topics: a message is kept
+    when at least 1/rate s passed since the last kept message of its topic.
+    """
+
+    include_topics: tuple[str, ...] | None = None
+    exclude_topics: tuple[str, ...] = ()
+    start_ns: int | None = None
+    end_ns: int | None = None
+    rates_hz: tuple[tuple[str, float], ...] = ()
+
+    def __post_init__(self) -> None:
+        if self.start_ns is not None and self.end_ns is not None and self.start_ns > self.end_ns:
+            raise FilterError(f"the time window starts ({self.start_ns} ns) after it ends ({self.end_ns} ns)")
+        for topic, rate in self.rates_hz:
+            if not math.isfinite(rate) or rate <= 0:
+                raise FilterError(f"the rate for {topic} must be a positive number of Hz, not {rate}")
+        names = [t.lstrip("/") for t, _ in self.rates_hz]
+        if len(set(names)) != len(names):
+            raise FilterError("rates_hz names a topic more than once")
+
+
+@dataclass(frozen=True)
+class FilterResult:
+    """The written bag (a .bag file or a ROS 2 directory) and the messages written per topic."""
+
+    path: Path
+    counts: dict[str, int]
+
+
+@dataclass(frozen=True)
+class _OutConn:
+    """Everything an output connection is made of; equal values share one output connection."""
+
+    topic: str
+    msgtype: str
+    msgdef: str
+    digest: str  # md5 for ROS 1, RIHS01 for ROS 2
+    callerid: str | None = None
+    latching: int | None = None
+    qos: tuple[Qos, ...] = ()
+
+
+@dataclass(frozen=True)
+class _Stream:
+    """How the messages of one source connection are written."""
+
+    out: _OutConn
+    convert: Convert | None  # None copies the payload unchanged
+    period_ns: float  # minimum spacing of kept messages; 0 keeps all
+
+
+def write_filtered(
+    reader: BagReader,
+    directory: Path,
+    name: str,
+    *,
+    fmt: OutputFormat,
+    spec: FilterSpec,
+    progress: Progress | None = None,
+    cancelled: Callable[[], bool] | None = None,
+) -> FilterResult:
+    """Write the messages ``spec`` selects from ``reader`` as a new bag ``directory/name``.
+
+    Raises TopicNotFoundError for unknown topics, FilterError for invalid requests and write
+    failures, FilterCancelled when ``cancelled()`` turns true; no partial output is left behind.
+    """
+    target = _target_path(directory, name, fmt)
+    streams = _plan(reader, spec, fmt)
+    topics = sorted({c.topic for c in reader.connections if c.id in streams})
+    total = sum(c.count for c in reader.connections if c.id in streams)
+    tracker = _Tracker(total, progress, cancelled)
+    writer = _open_writer(target, fmt)
+    try:
+        counts = _write(reader, writer, spec, streams, topics, tracker)
+    except BaseException:
+        with suppress(Exception):
+            writer.abort()
+        _remove(target)
+        raise
+    tracker.finish(f"wrote {sum(counts.values())} messages to {target.name}")
+    return FilterResult(target, counts)
+
+
+def _target_path(directory: Path, name: str, fmt: OutputFormat) -> Path:
+    """``directory/name.bag`` or the ROS 2 directory ``directory/name``; must not exist yet."""
+    if not name or name in (".", "..") or any(ch in name for ch in "/\\\0"):
+        raise FilterError(f"{name!r} is not a valid bag name (a plain file name is needed)")
+    if not directory.is_dir():
+        raise FilterError(f"{directory}: the output directory does not exist")
+    target = directory / (f"{name}.bag" if fmt is OutputFormat.ROS1 else name)
+    if target.exists() or target.is_symlink():
+        raise FilterError(f"{target} exists already; choose another name")
+    return target
+
+
+def _remove(target: Path) -> None:
+    """Delete a partial output file or directory."""
+    if target.is_dir() and not target.is_symlink():
+        shutil.rmtree(target, ignore_errors=True)
+    else:
+        target.unlink(missing_ok=True)
+
+
+# Selection -------------------------------------------------------------------------------------
+
+
+def _select(reader: BagReader, spec: FilterSpec) -> list[Connection]:
+    """Connections of the included topics minus the excluded ones, in bag order."""
+    if spec.include_topics is None:
+        chosen = {c.id for c in reader.connections}
+    else:
+        chosen = {c.id for t in spec.include_topics for c in reader.topic_connections(t)}
+    dropped = {c.id for t in spec.exclude_topics for c in reader.topic_connections(t)}
+    return [c for c in reader.connections if c.id in chosen - dropped]
+
+
+def _periods(reader: BagReader, spec: FilterSpec, selected: list[Connection]) -> dict[str, float]:
+    """Topic name -> minimum spacing (ns) of kept messages, for the rate-limited topics."""
+    names = {c.topic for c in selected}
+    periods: dict[str, float] = {}
+    for topic, rate in spec.rates_hz:
+        real = reader.topic_connections(topic)[0].topic
+        if real not in names:
+            raise FilterError(f"a rate is given for {real}, but that topic is not selected")
+        periods[real] = 1e9 / rate
+    return periods
+
+
+def _plan(reader: BagReader, spec: FilterSpec, fmt: OutputFormat) -> dict[int, _Stream]:
+    """Source connection id -> how its messages are written."""
+    selected = _select(reader, spec)
+    periods = _periods(reader, spec, selected)
+    plan: dict[int, _Stream] = {}
+    for conn in selected:
+        out, convert = _ros1_output(reader, conn) if fmt is OutputFormat.ROS1 else _ros2_output(reader, conn)
+        plan[conn.id] = _Stream(out, convert, periods.get(conn.topic, 0.0))
+    return plan
+
+
+# Definitions and conversion --------------------------------------------------------------------
+
+
+def _typestore(reader: BagReader, conn: Connection, why: str) -> Typestore:
+    """The source typestore of ``conn``; FilterError naming the topic when there is none."""
+    try:
+        return reader.decoder.typestore(conn.msgtype)
+    except DecodeError as err:
+        raise FilterError(f"{conn.topic} ({conn.msgtype}) cannot be {why}: {err}") from err
+
+
+def _meta(conn: Connection, key: str) -> str:
+    return dict(conn.metadata).get(key, "")
+
+
+def _qos(conn: Connection) -> tuple[Qos, ...]:
+    """The offered QoS profiles stored with a ROS 2 connection."""
+    text = _meta(conn, "offered_qos_profiles")
+    try:
+        return tuple(parse_qos(text))
+    except (Ros2ReaderError, KeyError, TypeError, ValueError) as err:
+        raise FilterError(f"{conn.topic}: its offered QoS profiles cannot be parsed ({err})") from err
+
+
+def _subtype(desc: FieldDesc) -> str:
+    """The message type a field refers to ('' for base types)."""
+    if desc[0] == Nodetype.NAME:
+        return desc[1]
+    if desc[0] in (Nodetype.ARRAY, Nodetype.SEQUENCE):
+        inner = desc[1][0]
+        return inner[1] if inner[0] == Nodetype.NAME else ""
+    return ""
+
+
+def _closure(store: Typestore, conn: Connection) -> Typesdict:
+    """The connection's type and every type it uses, as rosbags field definitions."""
+    found: Typesdict = {}
+    todo = [conn.msgtype]
+    while todo:
+        name = todo.pop()
+        if name in found:
+            continue
+        if name not in store.fielddefs:
+            raise FilterError(f"{conn.topic} ({conn.msgtype}) cannot be converted: it uses {name}, which is undefined")
+        found[name] = store.fielddefs[name]
+        todo += [sub for _, desc in found[name][1] if (sub := _subtype(desc))]
+    return found
+
+
+def _family_store(store: Typestore, conn: Connection, family: Stores) -> Typestore:
+    """The types of ``conn`` with the Header of the target family (ROS 1's has ``seq``)."""
+    typs = _closure(store, conn)
+    if _HEADER in typs:
+        typs[_HEADER] = get_typestore(family).fielddefs[_HEADER]
+    target = get_typestore(Stores.EMPTY)
+    target.register(typs)
+    return target
+
+
+def _guard(convert: Convert, conn: Connection, target: str) -> Convert:
+    """``convert`` with conversion errors turned into FilterError naming the topic."""
+
+    def run(data: bytes) -> bytes | memoryview:
+        try:
+            return convert(data)
+        except (SerdeError, struct.error, ValueError, IndexError) as err:
+            raise FilterError(
+                f"a message of {conn.topic} ({conn.msgtype}) cannot be converted to {target}: {err}"
+            ) from err
+
+    return run
+
+
+def _ros1_output(reader: BagReader, conn: Connection) -> tuple[_OutConn, Convert | None]:
+    """The ROS 1 connection for ``conn`` and the payload conversion (None within ROS 1)."""
+    if conn.encoding is Encoding.ROS1:
+        msgdef, digest = conn.definition, conn.digest
+        if not digest:  # e.g. a bare MCAP with the ros1 profile stores no md5
+            msgdef, digest = _typestore(reader, conn, "written to ROS 1").generate_msgdef(conn.msgtype)
+        callerid = _meta(conn, "callerid") or None
+        latching = 1 if _meta(conn, "latching") == "1" else None
+        return _OutConn(conn.topic, conn.msgtype, msgdef, digest, callerid, latching), None
+    store = _typestore(reader, conn, "converted to ROS 1")
+    msgdef, digest = _family_store(store, conn, Stores.ROS1_NOETIC).generate_msgdef(conn.msgtype)
+    latched = any(q.durability is QosDurability.TRANSIENT_LOCAL for q in _qos(conn))
+    convert = partial(store.cdr_to_ros1, typename=conn.msgtype)
+    out = _OutConn(conn.topic, conn.msgtype, msgdef, digest, latching=1 if latched else None)
+    return out, _guard(convert, conn, "ROS 1")
+
+
+def _stored_ros2_definition(conn: Connection) -> str:
+    """The stored definition; bare IDL gets the header rosbag2 puts before each IDL file."""
+    text = conn.definition if conn.definition.strip() else ""
+    if conn.definition_format == "idl" and text and not text.startswith(f"{_IDL_SEPARATOR}IDL: "):
+        text = f"{_IDL_SEPARATOR}IDL: {conn.msgtype}\n{text}"
+    return text
+
+
+def _copied_ros2_definition(reader: BagReader, conn: Connection) -> tuple[str, str]:
+    """Definition and RIHS01 hash for a ROS 2 -> ROS 2 copy.
+
+    The stored definition is kept as is (the typestore's when there is none). A type that cannot
+    be parsed is still copied byte for byte, with its definition text and the unset hash.
+    """
+    text = _stored_ros2_definition(conn)
+    try:
+        store = reader.decoder.typestore(conn.msgtype)
+        text = text or store.generate_msgdef(conn.msgtype, ros_version=2)[0]
+        return text, store.hash_rihs01(conn.msgtype)
+    except (DecodeError, TypesysError, KeyError):
+        return text, _UNSET_RIHS01
+
+
+def _ros2_output(reader: BagReader, conn: Connection) -> tuple[_OutConn, Convert | None]:
+    """The ROS 2 connection for ``conn`` and the payload conversion (None within ROS 2)."""
+    if conn.encoding is Encoding.CDR:
+        msgdef, digest = _copied_ros2_definition(reader, conn)
+        return _OutConn(conn.topic, conn.msgtype, msgdef, digest, qos=_qos(conn)), None
+    target = _family_store(_typestore(reader, conn, "converted to ROS 2"), conn, Stores.ROS2_FOXY)
+    msgdef = target.generate_msgdef(conn.msgtype, ros_version=2)[0]
+    qos = _LATCHED_QOS if _meta(conn, "latching") == "1" else ()
+    convert = partial(target.ros1_to_cdr, typename=conn.msgtype)
+    out = _OutConn(conn.topic, conn.msgtype, msgdef, target.hash_rihs01(conn.msgtype), qos=qos)
+    return out, _guard(convert, conn, "ROS 2")
+
+
+# Writing ---------------------------------------------------------------------------------------
+
+
+class _Tracker:
+    """Reports progress and polls for cancellation every few messages."""
+
+    def __init__(self, total: int, progress: Progress | None, cancelled: Callable[[], bool] | None) -> None:
+        self.total = total
+        self.done = 0
+        self.step = max(1, min(_PROGRESS_EVERY, total // 20))
+        self._progress = progress
+        self._cancelled = cancelled
+
+    def check(self) -> None:
+        """Report progress; raise FilterCancelled when the caller asks to stop."""
+        if self._cancelled is not None and self._cancelled():
+            raise FilterCancelled(f"cancelled after {self.done} of {self.total} messages")
+        if self._progress is not None:
+            fraction = min(1.0, self.done / self.total) if self.total else 0.0
+            self._progress(fraction, f"{self.done}/{self.total} messages")
+
+    def tick(self) -> None:
+        self.done += 1
+        if self.done % self.step == 0:
+            self.check()
+
+    def finish(self, message: str) -> None:
+        if self._progress is not None:
+            self._progress(1.0, message)
+
+
+def _new_writer(target: Path, fmt: OutputFormat) -> AnyWriter:
+    if fmt is OutputFormat.ROS1:
+        return Ros1Writer(target)
+    plugin = StoragePlugin.MCAP if fmt is OutputFormat.ROS2_MCAP else StoragePlugin.SQLITE3
+    return Ros2Writer(target, version=9, storage_plugin=plugin)
+
+
+def _open_writer(target: Path, fmt: OutputFormat) -> AnyWriter:
+    """Create the output atomically: a path that exists (even one that just appeared) is kept."""
+    try:
+        writer = _new_writer(target, fmt)
+        writer.open()
+    except (Ros1WriterError, Ros2WriterError) as err:  # rosbags refuses to overwrite anything
+        raise FilterError(f"{target} exists already; choose another name") from err
+    except _WRITE_ERRORS as err:  # created, then the storage could not be set up
+        _remove(target)
+        raise FilterError(f"{target}: the filtered bag could not be created ({err})") from err
+    return writer
+
+
+def _add(writer: AnyWriter, out: _OutConn) -> RbConnection:
+    if isinstance(writer, Ros1Writer):
+        return writer.add_connection(
+            out.topic,
+            out.msgtype,
+            msgdef=out.msgdef,
+            md5sum=out.digest,
+            callerid=out.callerid,
+            latching=out.latching,
+        )
+    return writer.add_connection(
+        out.topic, out.msgtype, msgdef=out.msgdef, rihs01=out.digest, offered_qos_profiles=out.qos
+    )
+
+
+def _write(
+    reader: BagReader,
+    writer: AnyWriter,
+    spec: FilterSpec,
+    streams: dict[int, _Stream],
+    topics: list[str],
+    tracker: _Tracker,
+) -> dict[str, int]:
+    """Write the selected messages and close the bag; third-party write errors become FilterError."""
+    try:
+        counts = _copy(reader, writer, spec, streams, topics, tracker)
+        writer.close()
+    except _WRITE_ERRORS as err:
+        raise FilterError(f"{writer.path}: the filtered bag could not be written ({err})") from err
+    return counts
+
+
+def _copy(
+    reader: BagReader,
+    writer: AnyWriter,
+    spec: FilterSpec,
+    streams: dict[int, _Stream],
+    topics: list[str],
+    tracker: _Tracker,
+) -> dict[str, int]:
+    """Copy messages in log-time order; returns the count written per topic."""
+    outputs: dict[_OutConn, RbConnection] = {}
+    for stream in streams.values():
+        if stream.out not in outputs:
+            outputs[stream.out] = _add(writer, stream.out)
+    counts = dict.fromkeys(topics, 0)
+    last_kept: dict[str, int] = {}
+    stop_ns = None if spec.end_ns is None else spec.end_ns + 1
+    tracker.check()
+    for raw in reader.messages(topics, start_ns=spec.start_ns, stop_ns=stop_ns):
+        stream = streams[raw.connection.id]
+        topic = raw.connection.topic
+        last = last_kept.get(topic)
+        if last is None or raw.log_time_ns - last >= stream.period_ns:
+            data = raw.data if stream.convert is None else stream.convert(raw.data)
+            writer.write(outputs[stream.out], raw.log_time_ns, data)
+            last_kept[topic] = raw.log_time_ns
+            counts[topic] += 1
+        tracker.tick()
+    tracker.check()
+    return counts
