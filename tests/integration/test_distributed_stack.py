@@ -3,144 +3,35 @@ as separate processes; bags uploaded with `bagmcp upload`; tools called through 
 
 from __future__ import annotations
 
-import json
-import subprocess
 import tarfile
 import zipfile
 from collections.abc import Iterator
-from dataclasses import dataclass
 from pathlib import Path
 
-import anyio
 import httpx
 import pytest
-from minio import Minio
 
 from tests.fixtures.bagfactory import BagKind
-from tests.fixtures.mcp_client import call, http_client
-from tests.fixtures.processes import BIN, http_ok, service, wait_until
-from tests.fixtures.servers import S3Endpoint, free_port
+from tests.fixtures.mcp_client import http_client
+from tests.fixtures.processes import wait_until
+from tests.integration.conftest import SCENARIO_NAMES
 from tests.integration.first_tools import check_first_tools
+from tests.integration.stack import SERVICE_TOKEN, TOKEN, Stack
 
 pytestmark = pytest.mark.anyio
-TOKEN = "test-client-token"
-NAMES = ["scenario", "scenario_db3", "scenario_mcap"]
+NAMES = SCENARIO_NAMES
 
 
-@dataclass(frozen=True)
-class Stack:
-    url: str
-    bag_store_url: str
-    s3: S3Endpoint
-    bucket: str
-    logs: Path
-    bag_store_data: Path
-
-
-def _env(redis_url: str, s3: S3Endpoint, data: Path, bucket: str) -> dict[str, str]:
-    return {
-        "BAGMCP_REDIS_URL": redis_url,
-        "BAGMCP_S3_ENDPOINT": s3.endpoint,
-        "BAGMCP_S3_ACCESS_KEY": s3.access_key,
-        "BAGMCP_S3_SECRET_KEY": s3.secret_key,
-        "BAGMCP_S3_BUCKET": bucket,
-        "BAGMCP_SERVICE_TOKEN": "test-service-token",
-        "BAGMCP_DATA_DIR": str(data),
-    }
-
-
-@pytest.fixture(scope="module")
-def stack(redis_url: str, s3_server: S3Endpoint, tmp_path_factory: pytest.TempPathFactory) -> Iterator[Stack]:
-    logs = tmp_path_factory.mktemp("stack-logs")
-    bucket = f"stack-{free_port()}"
-    store_port, gateway_port = free_port(), free_port()
-    store_data = tmp_path_factory.mktemp("bag-store-data")
-    common = _env(redis_url, s3_server, store_data, bucket)
-    worker_env = {**common, "BAGMCP_DATA_DIR": str(tmp_path_factory.mktemp("worker-data"))}
-    gateway_env = {
-        "BAGMCP_SERVICE_TOKEN": "test-service-token",
-        "BAGMCP_TOKENS": TOKEN,
-        "BAGMCP_PORT": str(gateway_port),
-        "BAGMCP_UPSTREAMS": f"bag-store=http://127.0.0.1:{store_port}/mcp",
-        "BAGMCP_BAG_STORE_URL": f"http://127.0.0.1:{store_port}",
-    }
-    store_url = f"http://127.0.0.1:{store_port}"
-    worker = [
-        str(BIN / "celery"),
-        "-A",
-        "bagmcp_bag_store.worker:app",
-        "worker",
-        "--pool",
-        "solo",
-        "--concurrency",
-        "1",
-        "--loglevel",
-        "INFO",
-        "--without-heartbeat",
-        "--without-gossip",
-    ]
-    with (
-        service(
-            "bag-store",
-            [str(BIN / "python"), "-m", "bagmcp_bag_store"],
-            env={**common, "BAGMCP_PORT": str(store_port)},
-            log_dir=logs,
-            ready=http_ok(f"{store_url}/healthz"),
-        ),
-        service("worker", worker, env=worker_env, log_dir=logs),
-        service(
-            "gateway",
-            [str(BIN / "bagmcp"), "gateway"],
-            env=gateway_env,
-            log_dir=logs,
-            ready=http_ok(f"http://127.0.0.1:{gateway_port}/readyz"),
-        ),
-    ):
-        yield Stack(f"http://127.0.0.1:{gateway_port}", store_url, s3_server, bucket, logs, store_data)
-
-
-def _upload(stack: Stack, path: Path) -> subprocess.CompletedProcess[str]:
-    return subprocess.run(
-        [str(BIN / "bagmcp"), "upload", str(path), "--url", stack.url, "--token", TOKEN, "--json"],
-        capture_output=True,
-        text=True,
-        timeout=120,
-        check=False,
-    )
-
-
-def _objects(stack: Stack) -> list[str]:
-    s3 = stack.s3
-    client = Minio(s3.endpoint, access_key=s3.access_key, secret_key=s3.secret_key, secure=False)
-    return sorted(str(o.object_name) for o in client.list_objects(stack.bucket, recursive=True))
-
-
-@pytest.fixture(scope="module")
-def uploaded(stack: Stack, scenario_bags: dict[BagKind, Path]) -> dict[BagKind, dict[str, object]]:
-    answers = {}
-    for kind, path in scenario_bags.items():
-        result = _upload(stack, path)
-        assert result.returncode == 0, result.stderr
-        answers[kind] = json.loads(result.stdout)
-    return answers
-
-
-async def _wait_ready(url: str) -> None:
-    async with http_client(f"{url}/mcp", TOKEN) as client:
-        with anyio.fail_after(90):
-            while True:
-                bags = (await call(client, "list_bags"))["bags"]
-                assert isinstance(bags, list)
-                if len(bags) >= len(NAMES) and all(b["status"] == "ready" for b in bags):
-                    return
-                await anyio.sleep(0.3)
+def _names(stack: Stack) -> list[str]:
+    listing = httpx.get(f"{stack.url}/api/v1/bags", params={"limit": 500}, headers=_auth()).json()
+    return sorted(b["name"] for b in listing["bags"])
 
 
 async def test_uploaded_bags_answer_the_first_tools_through_the_gateway(
     stack: Stack, uploaded: dict[BagKind, dict[str, object]]
 ) -> None:
     assert sorted(str(a["name"]) for a in uploaded.values()) == NAMES
-    await _wait_ready(stack.url)
+    await stack.wait_ready(NAMES)
     async with http_client(f"{stack.url}/mcp", TOKEN) as client:
         await check_first_tools(client, NAMES)
 
@@ -148,8 +39,8 @@ async def test_uploaded_bags_answer_the_first_tools_through_the_gateway(
 async def test_the_ingest_index_and_bag_objects_are_in_s3(
     stack: Stack, uploaded: dict[BagKind, dict[str, object]]
 ) -> None:
-    await _wait_ready(stack.url)
-    objects = _objects(stack)
+    await stack.wait_ready(NAMES)
+    objects = stack.objects()
     for answer in uploaded.values():
         assert f"indexes/{answer['id']}/summary.json" in objects
         assert any(o.startswith(f"bags/{answer['id']}/") for o in objects)
@@ -158,9 +49,7 @@ async def test_the_ingest_index_and_bag_objects_are_in_s3(
 def test_uploading_the_same_bag_twice_is_deduplicated(
     stack: Stack, uploaded: dict[BagKind, dict[str, object]], scenario_bags: dict[BagKind, Path]
 ) -> None:
-    again = _upload(stack, scenario_bags["ros1"])
-    assert again.returncode == 0, again.stderr
-    answer = json.loads(again.stdout)
+    answer = stack.upload_ok(scenario_bags["ros1"])
     assert answer["id"] == uploaded["ros1"]["id"]
     assert answer["duplicate"] is True
 
@@ -180,7 +69,7 @@ def test_bad_uploads_are_refused_and_nothing_is_stored(
     status: int,
     code: str,
 ) -> None:
-    before = _objects(stack)
+    before, names_before = stack.objects(), _names(stack)
     response = httpx.post(
         f"{stack.url}/api/v1/bags",
         params={"filename": label},
@@ -189,12 +78,8 @@ def test_bad_uploads_are_refused_and_nothing_is_stored(
     )
     assert response.status_code == status
     assert response.json()["error"]["code"] == code
-    assert _objects(stack) == before
-    names = [
-        b["name"]
-        for b in httpx.get(f"{stack.url}/api/v1/bags", headers={"Authorization": f"Bearer {TOKEN}"}).json()["bags"]
-    ]
-    assert sorted(names) == NAMES
+    assert stack.objects() == before
+    assert _names(stack) == names_before
 
 
 def test_a_truncated_bag_is_refused_with_the_reason(
@@ -206,12 +91,12 @@ def test_a_truncated_bag_is_refused_with_the_reason(
     whole = scenario_bags["ros1"].read_bytes()
     cut = tmp_path / "cut.bag"
     cut.write_bytes(whole[: len(whole) // 2])
-    before = _objects(stack)
-    result = _upload(stack, cut)
+    before = stack.objects()
+    result = stack.upload(cut)
     assert result.returncode == 1
     assert "422" in result.stderr
     assert "cut" in result.stderr
-    assert _objects(stack) == before
+    assert stack.objects() == before
 
 
 async def test_unknown_ids_and_bad_tokens_get_clear_errors(stack: Stack) -> None:
@@ -255,7 +140,7 @@ def test_an_archive_with_a_path_escaping_its_folder_is_refused(stack: Stack, tmp
     payload.write_bytes(b"#ROSBAG V2.0\n")
     with tarfile.open(archive, "w") as tar:
         tar.add(payload, arcname="../../escaped.bag")
-    before = _objects(stack)
+    before = stack.objects()
     response = httpx.post(
         f"{stack.url}/api/v1/bags",
         params={"filename": archive.name},
@@ -264,13 +149,13 @@ def test_an_archive_with_a_path_escaping_its_folder_is_refused(stack: Stack, tmp
     )
     assert response.status_code == 400
     assert "unsafe path" in response.json()["error"]["message"]
-    assert _objects(stack) == before
+    assert stack.objects() == before
 
 
 def test_an_interrupted_upload_leaves_nothing_behind(
     stack: Stack, uploaded: dict[BagKind, dict[str, object]], scenario_bags: dict[BagKind, Path]
 ) -> None:
-    before = _objects(stack)
+    before, names_before = stack.objects(), _names(stack)
     data = scenario_bags["ros1"].read_bytes()
 
     def cut_off() -> Iterator[bytes]:
@@ -281,11 +166,10 @@ def test_an_interrupted_upload_leaves_nothing_behind(
         httpx.post(
             f"{stack.bag_store_url}/api/v1/bags",
             params={"filename": "interrupted.bag"},
-            headers={"Authorization": "Bearer test-service-token"},
+            headers={"Authorization": f"Bearer {SERVICE_TOKEN}"},
             content=cut_off(),
         )
-    listing = httpx.get(f"{stack.url}/api/v1/bags", headers=_auth()).json()
-    assert sorted(b["name"] for b in listing["bags"]) == NAMES
-    assert _objects(stack) == before
+    assert _names(stack) == names_before
+    assert stack.objects() == before
     uploads = stack.bag_store_data / "uploads"
     wait_until(lambda: not any(uploads.iterdir()), timeout_s=10, what="upload temp files to be removed")

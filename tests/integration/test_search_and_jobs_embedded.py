@@ -14,7 +14,7 @@ from mcp import Client
 from bagmcp_bag_store.search import search_messages
 from bagmcp_bag_store.wiring import folder_deps
 from tests.fixtures.bagfactory import BagKind, write_chatter_bag
-from tests.fixtures.mcp_client import call, http_client
+from tests.fixtures.mcp_client import call, call_error, http_client
 from tests.fixtures.processes import BIN, http_ok, service, wait_until
 from tests.fixtures.servers import free_port
 from tests.integration.search_checks import (
@@ -107,3 +107,10 @@ def test_index_and_bag_give_identical_search_results(folder: Path, tmp_path: Pat
         assert _strip(indexed) == _strip(decoded)
         assert indexed["total"] > 0
     runner.pool.shutdown(wait=True)
+
+
+async def test_filter_bag_is_refused_on_a_read_only_folder(served: str) -> None:
+    async with http_client(served, None) as client:
+        await _ready(client)
+        refused = await call_error(client, "filter_bag", bag="scenario", include_topics=["/odom"])
+    assert "read-only" in refused

@@ -36,6 +36,7 @@ class BagStoreSettings:
     max_upload_bytes: int = 50 * 2**30
     max_result_bytes: int = 16_000
     job_budget_s: float = 20.0
+    task_visibility_timeout_s: int = 3600
     allowed_hosts: tuple[str, ...] = ("127.0.0.1:*", "localhost:*", "bag-store:*", "bag_store:*")
 
     @property
@@ -76,4 +77,5 @@ class BagStoreSettings:
             cache_max_bytes=int(env.get("BAGMCP_CACHE_MAX_BYTES", 20 * 2**30)),
             max_upload_bytes=int(env.get("BAGMCP_MAX_UPLOAD_BYTES", 50 * 2**30)),
             job_budget_s=float(env.get("BAGMCP_JOB_BUDGET_S", 20.0)),
+            task_visibility_timeout_s=int(env.get("BAGMCP_TASK_VISIBILITY_TIMEOUT_S", 3600)),
         )

@@ -14,8 +14,12 @@ INGEST_TASK = "bagmcp.bag_store.ingest"
 JOB_TASK = "bagmcp.bag_store.run_job"
 
 
-def create_celery(redis_url: str) -> Celery:
-    """A Celery app on Redis (broker and results) that redelivers tasks of a worker that died."""
+def create_celery(redis_url: str, *, visibility_timeout_s: int = 3600) -> Celery:
+    """A Celery app on Redis (broker and results) that redelivers tasks of a worker that died.
+
+    Tasks are acknowledged after they finish; a task whose worker vanished is handed to another
+    worker once ``visibility_timeout_s`` has passed (every task here is safe to run twice).
+    """
     app = Celery("bagmcp", broker=redis_url, backend=redis_url)
     app.conf.update(
         task_acks_late=True,
@@ -25,7 +29,12 @@ def create_celery(redis_url: str) -> Celery:
         result_serializer="json",
         accept_content=["json"],
         broker_connection_retry_on_startup=True,
-        broker_transport_options={"visibility_timeout": 3600},
+        broker_transport_options={
+            "visibility_timeout": visibility_timeout_s,
+            # look for abandoned tasks every few seconds (kombu's default is about 100 s)
+            "unacked_restore_interval": min(10, max(1, visibility_timeout_s // 5)),
+            "unacked_restore_throttle": 1,
+        },
         result_expires=24 * 3600,
     )
     return app

@@ -107,7 +107,7 @@ def team_deps(settings: BagStoreSettings, celery: Celery | None = None) -> BagSt
     """Team mode: S3 for bags and indexes, Redis for the catalog, Celery for ingest."""
     assert settings.redis_url is not None
     store = s3_store(settings)
-    app = celery or create_celery(settings.redis_url)
+    app = celery or create_celery(settings.redis_url, visibility_timeout_s=settings.task_visibility_timeout_s)
 
     client = redis.Redis.from_url(settings.redis_url, socket_connect_timeout=3, socket_timeout=10)
     return BagStoreDeps(

@@ -14,7 +14,7 @@ from bagmcp_bag_store.wiring import team_deps
 
 settings = BagStoreSettings.from_env()
 assert settings.redis_url is not None
-app = create_celery(settings.redis_url)
+app = create_celery(settings.redis_url, visibility_timeout_s=settings.task_visibility_timeout_s)
 
 
 @functools.cache
