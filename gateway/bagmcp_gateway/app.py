@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import contextlib
-from collections.abc import AsyncIterator
+from collections.abc import AsyncIterator, Callable
 from dataclasses import dataclass, field
 
 import anyio
@@ -15,7 +15,7 @@ from pydantic import AnyHttpUrl
 
 from bagmcp_gateway.aggregator import Routing, build_gateway_server, collect_tools
 from bagmcp_gateway.auth import CLIENT_SCOPE, ApiTokenVerifier, rest_auth
-from bagmcp_gateway.upstreams import Upstream
+from bagmcp_gateway.upstreams import GatewayConfigError, Upstream
 
 
 @dataclass(frozen=True)
@@ -28,7 +28,7 @@ class GatewayConfig:
     allowed_hosts: tuple[str, ...] = ("127.0.0.1:*", "localhost:*", "[::1]:*")
 
 
-def create_app(config: GatewayConfig, *, rest: APIRouter) -> FastAPI:
+def create_app(config: GatewayConfig, *, rest: APIRouter, on_shutdown: Callable[[], None] | None = None) -> FastAPI:
     """The gateway app. ``rest`` serves /api/v1 (a proxy in team mode, the bag-store's routes embedded)."""
     verifier = ApiTokenVerifier(config.token_hashes) if config.token_hashes else None
     server = build_gateway_server(config.upstreams)
@@ -54,6 +54,8 @@ def create_app(config: GatewayConfig, *, rest: APIRouter) -> FastAPI:
     async def lifespan(_app: FastAPI) -> AsyncIterator[None]:
         async with server.session_manager.run():
             yield
+        if on_shutdown is not None:
+            on_shutdown()
 
     app = FastAPI(title="bagmcp gateway", lifespan=lifespan)
     app.include_router(rest, dependencies=[Depends(rest_auth(verifier))])
@@ -64,12 +66,14 @@ def create_app(config: GatewayConfig, *, rest: APIRouter) -> FastAPI:
 
     @app.get("/readyz")
     async def readyz() -> JSONResponse:
+        """Per-upstream up/down (details go to the gateway's log, not to unauthenticated callers)."""
         routing = Routing()
-        with anyio.move_on_after(15):
-            await collect_tools(config.upstreams, routing)
-        status = {
-            u.name: ("down: " + routing.down[u.name]) if u.name in routing.down else "up" for u in config.upstreams
-        }
+        try:
+            with anyio.move_on_after(15):
+                await collect_tools(config.upstreams, routing)
+        except GatewayConfigError:
+            return JSONResponse({"ready": False, "error": "configuration error (see the gateway log)"}, status_code=503)
+        status = {u.name: "down" if u.name in routing.down else "up" for u in config.upstreams}
         ready = not routing.down
         return JSONResponse({"ready": ready, "upstreams": status}, status_code=200 if ready else 503)
 

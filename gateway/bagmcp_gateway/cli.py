@@ -14,6 +14,8 @@ from bagmcp_shared.bags import open_bag
 from bagmcp_shared.bags.report import summary_dict, summary_text
 from bagmcp_shared.errors import BagmcpError
 
+DATA_HELP = "where indexes and bags made by filter_bag go (default: $BAGMCP_DATA_DIR or ~/.cache/bagmcp)"
+
 
 def _info(args: argparse.Namespace) -> int:
     with open_bag(args.path, recover_truncated=args.recover) as bag:
@@ -43,7 +45,7 @@ def _serve(args: argparse.Namespace) -> int:
         return 2
     url = f"http://{args.host}:{args.port}"
     allowed = ("127.0.0.1:*", "localhost:*", "[::1]:*", f"{args.host}:*")
-    app = create_embedded_app(bags, token=args.token, public_url=url, allowed_hosts=allowed)
+    app = create_embedded_app(bags, data_dir=args.data, token=args.token, public_url=url, allowed_hosts=allowed)
     print(f"bagmcp: serving {bags} at {url}/mcp", file=sys.stderr)
     uvicorn.run(app, host=args.host, port=args.port, log_level="warning")
     return 0
@@ -55,7 +57,7 @@ def _stdio(args: argparse.Namespace) -> int:
 
     from bagmcp_gateway.embedded import create_embedded_server
 
-    server = create_embedded_server(Path(args.bags))
+    server = create_embedded_server(Path(args.bags), args.data)
 
     async def run() -> None:
         async with stdio_server() as (read, write):
@@ -112,9 +114,11 @@ def build_parser() -> argparse.ArgumentParser:
     serve.add_argument("--host", default="127.0.0.1")
     serve.add_argument("--port", type=int, default=8000)
     serve.add_argument("--token", help="require this bearer token (required off loopback)")
+    serve.add_argument("--data", type=Path, default=None, help=DATA_HELP)
     serve.set_defaults(handler=_serve)
     stdio = commands.add_parser("stdio", help="serve a folder of bags over MCP stdio (Claude Desktop)")
     stdio.add_argument("--bags", required=True, help="folder of bags (read-only)")
+    stdio.add_argument("--data", type=Path, default=None, help=DATA_HELP)
     stdio.set_defaults(handler=_stdio)
     gateway = commands.add_parser("gateway", help="run the team gateway (settings from BAGMCP_* variables)")
     gateway.set_defaults(handler=_gateway)

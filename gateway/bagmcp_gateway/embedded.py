@@ -27,20 +27,23 @@ class Embedded:
     runner: ThreadRunner
 
 
-def embed(bags_dir: Path) -> Embedded:
+def embed(bags_dir: Path, data_dir: Path | None = None) -> Embedded:
     """Catalog ``bags_dir`` (read-only), start ingest, and expose the bag-store in-process.
 
-    ``BAGMCP_JOB_BUDGET_S`` sets how long long-running tools wait before answering with a job.
+    ``data_dir`` (default ``$BAGMCP_DATA_DIR`` or ``~/.cache/bagmcp``) holds indexes and the bags
+    filter_bag writes. ``BAGMCP_JOB_BUDGET_S`` sets how long long-running tools wait before
+    answering with a job.
     """
-    deps, runner = folder_deps(bags_dir, job_budget_s=float(os.environ.get("BAGMCP_JOB_BUDGET_S", "20")))
+    budget = float(os.environ.get("BAGMCP_JOB_BUDGET_S", "20"))
+    deps, runner = folder_deps(bags_dir, data_dir=data_dir, job_budget_s=budget)
     return Embedded(deps, [Upstream(name="bag-store", server=build_mcp(deps))], runner)
 
 
 def create_embedded_app(
-    bags_dir: Path, *, token: str | None, public_url: str, allowed_hosts: tuple[str, ...]
+    bags_dir: Path, *, data_dir: Path | None, token: str | None, public_url: str, allowed_hosts: tuple[str, ...]
 ) -> FastAPI:
     """The HTTP app of ``bagmcp serve``."""
-    embedded = embed(bags_dir)
+    embedded = embed(bags_dir, data_dir)
     config = GatewayConfig(
         upstreams=embedded.upstreams,
         token_hashes=[token_hash(token)] if token else [],
@@ -48,11 +51,11 @@ def create_embedded_app(
         allowed_hosts=allowed_hosts,
     )
     rest = build_router(embedded.deps, upload_dir=Path(tempfile.gettempdir()), max_upload_bytes=0)
-    app = create_app(config, rest=rest)
+    app = create_app(config, rest=rest, on_shutdown=embedded.runner.shutdown)
     install_error_handler(app)
     return app
 
 
-def create_embedded_server(bags_dir: Path) -> Server[object]:
+def create_embedded_server(bags_dir: Path, data_dir: Path | None) -> Server[object]:
     """The MCP server of ``bagmcp stdio``."""
-    return build_gateway_server(embed(bags_dir).upstreams)
+    return build_gateway_server(embed(bags_dir, data_dir).upstreams)

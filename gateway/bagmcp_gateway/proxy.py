@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import re
 from collections.abc import AsyncIterator
 
 import httpx
@@ -21,12 +22,24 @@ _HOP_HEADERS = {
 }
 
 
+# The only bag-store routes the gateway forwards; anything else (e.g. an encoded "../mcp") is refused,
+# so the service credential can never reach another endpoint.
+_ROUTES = re.compile(r"^bags(/[A-Za-z0-9][A-Za-z0-9._-]{0,127}(/download)?)?$")
+
+
+def forwardable(path: str) -> bool:
+    return bool(_ROUTES.match(path)) and ".." not in path
+
+
 def build_proxy(base_url: str, service_token: str | None) -> APIRouter:
     router = APIRouter()
     client = httpx.AsyncClient(base_url=base_url, timeout=httpx.Timeout(30.0, read=3600.0, write=3600.0))
 
     @router.api_route("/api/v1/{path:path}", methods=["GET", "POST", "DELETE", "PUT", "PATCH"])
     async def forward(path: str, request: Request) -> Response:
+        if not forwardable(path):
+            message = f"no such route /api/v1/{path}; see /docs"
+            return JSONResponse({"error": {"code": "not_found", "message": message}}, status_code=404)
         headers = {k: v for k, v in request.headers.items() if k.lower() not in _HOP_HEADERS}
         if service_token:
             headers["authorization"] = f"Bearer {service_token}"

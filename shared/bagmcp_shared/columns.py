@@ -18,8 +18,8 @@ from typing import Protocol, cast
 import numpy as np
 import numpy.typing as npt
 
-from bagmcp_shared.bags import BagReader
-from bagmcp_shared.errors import MessagePathError
+from bagmcp_shared.bags import BagReader, RawMessage
+from bagmcp_shared.errors import BagmcpError
 from bagmcp_shared.paths import check_steps, extract, parse_field_path
 from bagmcp_shared.timebase import header_stamp_ns
 
@@ -64,8 +64,8 @@ INDEXED_COLUMNS: dict[str, tuple[str, ...]] = {
     "sensor_msgs/msg/NavSatFix": ("latitude", "longitude", "altitude", "status.status"),
     "sensor_msgs/msg/BatteryState": ("voltage", "current", "percentage"),
     "sensor_msgs/msg/LaserScan": ("min_range", "min_bearing"),
-    "rosgraph_msgs/msg/Log": ("level", "name", "msg"),
-    "rcl_interfaces/msg/Log": ("level", "name", "msg"),
+    "rosgraph_msgs/msg/Log": ("level",),
+    "rcl_interfaces/msg/Log": ("level",),
     **{f"std_msgs/msg/{n}": ("data",) for n in _NUMBERS},
 }
 
@@ -125,66 +125,89 @@ class Series:
         )
 
 
+class _Collector:
+    """Accumulates columns of one topic, one decoded message at a time."""
+
+    def __init__(self, reader: BagReader, topic: str, columns: Iterable[str]) -> None:
+        msgtype = reader.topic_connections(topic)[0].msgtype
+        self.names = list(columns)
+        self._getters = [column_getter(reader, msgtype, c) for c in self.names]
+        self._times: list[int] = []
+        self._headers: list[int] = []
+        self._values: list[list[float | int | str]] = [[] for _ in self.names]
+
+    def add(self, raw: RawMessage, message: object) -> None:
+        row = [getter(message) for getter in self._getters]
+        self._times.append(raw.log_time_ns)
+        self._headers.append(header_stamp_ns(message) or 0)
+        for column, value in zip(self._values, row, strict=True):
+            column.append(value)
+
+    def series(self, source: str) -> Series:
+        arrays = {name: np.asarray(column) for name, column in zip(self.names, self._values, strict=True)}
+        times = np.asarray(self._times, dtype=np.int64)
+        return Series(times, np.asarray(self._headers, dtype=np.int64), arrays, source)
+
+
 def decode_series(
-    reader: BagReader,
-    topic: str,
-    columns: Iterable[str],
-    *,
-    start_ns: int | None = None,
-    stop_ns: int | None = None,
+    reader: BagReader, topic: str, columns: Iterable[str], *, start_ns: int | None = None, stop_ns: int | None = None
 ) -> Series:
     """Decode ``topic`` and read ``columns`` of every message in the window."""
-    conn = reader.topic_connections(topic)[0]
-    names = list(columns)
-    getters = [column_getter(reader, conn.msgtype, c) for c in names]
-    times: list[int] = []
-    headers: list[int] = []
-    values: list[list[float | int | str]] = [[] for _ in names]
+    collector = _Collector(reader, topic, columns)
     for raw in reader.messages([topic], start_ns=start_ns, stop_ns=stop_ns):
-        message = reader.decode(raw)
-        times.append(raw.log_time_ns)
-        headers.append(header_stamp_ns(message) or 0)
-        for column, getter in zip(values, getters, strict=True):
-            column.append(getter(message))
-    arrays = {name: np.asarray(column) for name, column in zip(names, values, strict=True)}
-    return Series(np.asarray(times, dtype=np.int64), np.asarray(headers, dtype=np.int64), arrays, "bag")
+        collector.add(raw, reader.decode(raw))
+    return collector.series("bag")
 
 
 def _slug(topic: str) -> str:
     return (topic.strip("/").replace("/", "__") or "_root") + ".npz"
 
 
+def _collectors(reader: BagReader) -> dict[str, _Collector]:
+    """One collector per topic whose type the index covers and whose definition fits it."""
+    found: dict[str, _Collector] = {}
+    for conn in reader.connections:
+        if conn.msgtype in INDEXED_COLUMNS and conn.count and conn.msgtype not in reader.decoder.problems:
+            try:
+                found.setdefault(conn.topic, _Collector(reader, conn.topic, INDEXED_COLUMNS[conn.msgtype]))
+            except BagmcpError:
+                continue  # a same-named type with another definition: left to decoding
+    return found
+
+
 def build_index(
     reader: BagReader, directory: Path, progress: Callable[[float, str], None] | None = None
 ) -> dict[str, dict[str, object]]:
-    """Extract the columns of every indexed topic into ``directory``; returns the manifest."""
+    """Extract the columns of every indexed topic into ``directory`` in one pass; returns the manifest.
+
+    A topic with a message that does not decode is left out of the index (its questions are then
+    answered by decoding, which reports the problem).
+    """
     directory.mkdir(parents=True, exist_ok=True)
-    manifest: dict[str, dict[str, object]] = {}
-    topics = [
-        c
-        for c in reader.connections
-        if c.msgtype in INDEXED_COLUMNS and c.count and c.msgtype not in reader.decoder.problems
-    ]
-    for number, conn in enumerate(topics):
+    collectors = _collectors(reader)
+    skipped: dict[str, str] = {}
+    total = max(sum(c.count for c in reader.connections if c.topic in collectors), 1)
+    for number, raw in enumerate(reader.messages(list(collectors))):
+        topic = raw.connection.topic
+        if topic in skipped:
+            continue
         try:
-            series = decode_series(reader, conn.topic, INDEXED_COLUMNS[conn.msgtype])
-        except MessagePathError:
-            continue  # a same-named type with a different definition: leave it to decoding
+            collectors[topic].add(raw, reader.decode(raw))
+        except BagmcpError as err:
+            skipped[topic] = str(err)
+        if progress is not None and number % 5000 == 0:
+            progress(number / total, "indexing")
+    manifest: dict[str, dict[str, object]] = {}
+    for topic, collector in collectors.items():
+        if topic in skipped:
+            continue
+        series = collector.series("index")
+        columns = {f"c:{k}": v for k, v in series.columns.items()}
         cast(Callable[..., None], np.savez)(
-            directory / _slug(conn.topic),
-            t_ns=series.t_ns,
-            header_ns=series.header_ns,
-            **{f"c:{k}": v for k, v in series.columns.items()},
+            directory / _slug(topic), t_ns=series.t_ns, header_ns=series.header_ns, **columns
         )
-        manifest[conn.topic] = {
-            "file": _slug(conn.topic),
-            "type": conn.msgtype,
-            "columns": list(series.columns),
-            "count": len(series.t_ns),
-        }
-        if progress is not None:
-            progress((number + 1) / len(topics), f"indexed {conn.topic}")
-    (directory / MANIFEST).write_text(json.dumps(manifest, indent=1))
+        manifest[topic] = {"file": _slug(topic), "columns": collector.names, "count": len(series.t_ns)}
+    (directory / MANIFEST).write_text(json.dumps({"topics": manifest, "skipped": skipped}, indent=1))
     return manifest
 
 
@@ -193,7 +216,7 @@ class ColumnIndex:
 
     def __init__(self, directory: Path) -> None:
         self._dir = directory
-        self._manifest: dict[str, dict[str, object]] = json.loads((directory / MANIFEST).read_text())
+        self._manifest: dict[str, dict[str, object]] = json.loads((directory / MANIFEST).read_text())["topics"]
 
     @classmethod
     def load(cls, directory: Path | None) -> ColumnIndex | None:

@@ -173,3 +173,11 @@ def test_an_interrupted_upload_leaves_nothing_behind(
     assert stack.objects() == before
     uploads = stack.bag_store_data / "uploads"
     wait_until(lambda: not any(uploads.iterdir()), timeout_s=10, what="upload temp files to be removed")
+
+
+@pytest.mark.parametrize("path", ["..%2F..%2Fmcp", "..%2fmcp", "%2e%2e/%2e%2e/mcp", "bags/..%2F..%2Fmcp"])
+def test_the_rest_proxy_never_carries_the_service_token_elsewhere(stack: Stack, path: str) -> None:
+    body = {"jsonrpc": "2.0", "id": 1, "method": "tools/list"}
+    response = httpx.post(f"{stack.url}/api/v1/{path}", headers=_auth(), json=body)
+    assert response.status_code == 404
+    assert "tools" not in response.text

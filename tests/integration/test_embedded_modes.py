@@ -34,7 +34,16 @@ def bag_folder(scenario_bags: dict[BagKind, Path], tmp_path_factory: pytest.Temp
 def served(bag_folder: Path, tmp_path_factory: pytest.TempPathFactory) -> Iterator[str]:
     port = free_port()
     url = f"http://127.0.0.1:{port}"
-    command = [str(BIN / "bagmcp"), "serve", "--bags", str(bag_folder), "--port", str(port)]
+    command = [
+        str(BIN / "bagmcp"),
+        "serve",
+        "--bags",
+        str(bag_folder),
+        "--port",
+        str(port),
+        "--data",
+        str(tmp_path_factory.mktemp("data")),
+    ]
     with service(
         "bagmcp-serve",
         command,
@@ -62,8 +71,10 @@ async def test_serve_over_http_answers_the_first_tools_for_three_formats(served:
         await check_first_tools(client, NAMES)
 
 
-async def test_stdio_answers_the_first_tools_for_three_formats(bag_folder: Path) -> None:
-    params = StdioServerParameters(command=str(BIN / "bagmcp"), args=["stdio", "--bags", str(bag_folder)])
+async def test_stdio_answers_the_first_tools_for_three_formats(bag_folder: Path, tmp_path: Path) -> None:
+    params = StdioServerParameters(
+        command=str(BIN / "bagmcp"), args=["stdio", "--bags", str(bag_folder), "--data", str(tmp_path)]
+    )
     async with Client(params, cache=None) as client:
         await _wait_ready(client, len(NAMES))
         await check_first_tools(client, NAMES)
@@ -79,7 +90,18 @@ def test_serve_lists_bags_over_rest_and_refuses_uploads_to_a_read_only_folder(se
 
 def test_serve_with_a_token_rejects_calls_without_it(bag_folder: Path, tmp_path: Path) -> None:
     port = free_port()
-    command = [str(BIN / "bagmcp"), "serve", "--bags", str(bag_folder), "--port", str(port), "--token", "t0k"]
+    command = [
+        str(BIN / "bagmcp"),
+        "serve",
+        "--bags",
+        str(bag_folder),
+        "--port",
+        str(port),
+        "--token",
+        "t0k",
+        "--data",
+        str(tmp_path / "data"),
+    ]
     with service(
         "bagmcp-serve-token",
         command,

@@ -13,14 +13,17 @@ from mcp import Client
 
 from bagmcp_bag_store.search import search_messages
 from bagmcp_bag_store.wiring import folder_deps
+from tests.fixtures import scenario as sc
 from tests.fixtures.bagfactory import BagKind, write_chatter_bag
-from tests.fixtures.mcp_client import call, call_error, http_client
+from tests.fixtures.mcp_client import call, http_client
 from tests.fixtures.processes import BIN, http_ok, service, wait_until
 from tests.fixtures.servers import free_port
+from tests.integration.bag_downloads import download_info
 from tests.integration.search_checks import (
     check_cancel_stops_a_running_job,
     check_search,
     check_slow_search_becomes_a_job_with_progress,
+    finished,
 )
 
 pytestmark = pytest.mark.anyio
@@ -41,7 +44,7 @@ def folder(scenario_bags: dict[BagKind, Path], tmp_path_factory: pytest.TempPath
 def served(folder: Path, tmp_path_factory: pytest.TempPathFactory) -> Iterator[str]:
     port = free_port()
     url = f"http://127.0.0.1:{port}"
-    env = {"BAGMCP_JOB_BUDGET_S": "0.3", "BAGMCP_INDEX_DIR": str(tmp_path_factory.mktemp("index"))}
+    env = {"BAGMCP_JOB_BUDGET_S": "0.3", "BAGMCP_DATA_DIR": str(tmp_path_factory.mktemp("data"))}
     with service(
         "serve-search",
         [str(BIN / "bagmcp"), "serve", "--bags", str(folder), "--port", str(port)],
@@ -93,24 +96,38 @@ def _strip(result: dict[str, Any]) -> dict[str, Any]:
         },
         {"topic": "/scan", "condition": "less_than", "value": 0.5},
         {"topic": "/cmd_vel", "condition": "between", "value": [0.59, 0.66], "start": 1.0, "end": 8.0},
-        {"topic": "/rosout", "condition": "equals", "value": "goal reached", "field": "msg"},
+        {"topic": "/rosout", "condition": "greater_than", "value": 3},
     ],
 )
 def test_index_and_bag_give_identical_search_results(folder: Path, tmp_path: Path, params: dict[str, Any]) -> None:
-    deps, runner = folder_deps(folder, index_root=tmp_path / "index")
+    deps, runner = folder_deps(folder, data_dir=tmp_path / "data")
     wait_until(lambda: all(r.status != "ingesting" for r in deps.catalog.all()), timeout_s=120, what="ingest")
     for bag in BAGS:
         request = {"bag": bag, **params}
         indexed = search_messages(deps, request, lambda f, m: None, use_index=True).model_dump(mode="json")
         decoded = search_messages(deps, request, lambda f, m: None, use_index=False).model_dump(mode="json")
-        assert decoded["source"] == "bag"
+        assert (indexed["source"], decoded["source"]) == ("index", "bag")
         assert _strip(indexed) == _strip(decoded)
         assert indexed["total"] > 0
-    runner.pool.shutdown(wait=True)
+    runner.shutdown()
 
 
-async def test_filter_bag_is_refused_on_a_read_only_folder(served: str) -> None:
+async def test_filter_bag_on_the_embedded_server_stores_the_new_bag_outside_the_folder(
+    served: str, folder: Path, tmp_path: Path
+) -> None:
+    before = sorted(p.name for p in folder.iterdir())
     async with http_client(served, None) as client:
         await _ready(client)
-        refused = await call_error(client, "filter_bag", bag="scenario", include_topics=["/odom"])
-    assert "read-only" in refused
+        answer = await finished(
+            client,
+            await call(
+                client, "filter_bag", bag="scenario_db3", include_topics=["/cmd_vel", "/odom"], name="two-topics"
+            ),
+        )
+        expected = {"/cmd_vel": sc.COUNTS["/cmd_vel"], "/odom": sc.COUNTS["/odom"]}
+        assert answer["counts"] == expected
+        info = await call(client, "bag_info", bag="two-topics")
+        assert {t["name"]: t["count"] for t in info["topics"]} == expected
+    cli = download_info(served.removesuffix("/mcp"), None, answer["bag_id"], tmp_path)
+    assert {t["name"]: t["count"] for t in cli["topics"]} == expected
+    assert sorted(p.name for p in folder.iterdir()) == before

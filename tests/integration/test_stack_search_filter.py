@@ -3,24 +3,19 @@ filter_bag (counts confirmed by bag_info and `bagmcp info`), and a worker killed
 
 from __future__ import annotations
 
-import io
-import json
-import subprocess
-import tarfile
 from collections.abc import AsyncIterator
 from contextlib import asynccontextmanager
 from pathlib import Path
 from typing import Any
 
 import anyio
-import httpx
 import pytest
 from mcp import Client
 
 from tests.fixtures import scenario as sc
 from tests.fixtures.bagfactory import BagKind, write_chatter_bag
 from tests.fixtures.mcp_client import call, call_error, http_client
-from tests.fixtures.processes import BIN
+from tests.integration.bag_downloads import download_info
 from tests.integration.conftest import SCENARIO_NAMES
 from tests.integration.search_checks import (
     check_cancel_stops_a_running_job,
@@ -80,24 +75,6 @@ async def _filter(client: Client, **arguments: object) -> dict[str, Any]:
     return await finished(client, await call(client, "filter_bag", **arguments))
 
 
-def _download_info(stack: Stack, bag_id: str, work: Path) -> dict[str, Any]:
-    """Download a bag over REST and run `bagmcp info --json` on it."""
-    response = httpx.get(f"{stack.url}/api/v1/bags/{bag_id}/download", headers={"Authorization": f"Bearer {TOKEN}"})
-    assert response.status_code == 200
-    if response.headers["content-type"] == "application/x-tar":
-        with tarfile.open(fileobj=io.BytesIO(response.content)) as tar:
-            tar.extractall(work, filter="data")
-            target = work / tar.getnames()[0].split("/")[0]
-    else:
-        target = work / "downloaded.bag"
-        target.write_bytes(response.content)
-    result = subprocess.run(
-        [str(BIN / "bagmcp"), "info", "--json", str(target)], capture_output=True, text=True, check=False, timeout=60
-    )
-    assert result.returncode == 0, result.stderr
-    return json.loads(result.stdout)  # type: ignore[no-any-return]
-
-
 @pytest.mark.parametrize(("source", "fmt"), [("scenario", None), ("scenario_db3", None), ("scenario_mcap", "ros1")])
 async def test_filter_bag_keeps_exactly_the_requested_topics(
     stack: Stack, uploaded: dict[BagKind, dict[str, Any]], tmp_path: Path, source: str, fmt: str | None
@@ -117,7 +94,7 @@ async def test_filter_bag_keeps_exactly_the_requested_topics(
         assert {t["name"]: t["count"] for t in info["topics"]} == expected
         assert info["name"] == f"{source}-two-topics"
         assert info["format"] == (fmt or {"scenario": "ros1", "scenario_db3": "ros2-sqlite3"}.get(source, "ros2-mcap"))
-    cli = _download_info(stack, result["bag_id"], tmp_path)
+    cli = download_info(stack.url, TOKEN, result["bag_id"], tmp_path)
     assert {t["name"]: t["count"] for t in cli["topics"]} == expected
 
 

@@ -79,7 +79,7 @@ def build_router(deps: BagStoreDeps, *, upload_dir: Path, max_upload_bytes: int)
         name: str | None = None,
         tags: Annotated[list[str] | None, Query()] = None,
     ) -> JSONResponse:
-        if deps.store is None:
+        if deps.store is None or not deps.uploads:
             raise ReadOnlyError("this server serves a read-only folder of bags; uploads are disabled")
         received = await receive(request.stream(), upload_dir, max_bytes=max_upload_bytes)
         record, created = await anyio.to_thread.run_sync(

@@ -10,7 +10,7 @@ from typing import Protocol
 
 from bagmcp_bag_store.models import BagRecord
 from bagmcp_shared.errors import StorageError
-from bagmcp_shared.storage import ObjectStore
+from bagmcp_shared.storage import LocalStore, ObjectStore
 
 _COMPLETE = ".complete"
 
@@ -30,13 +30,23 @@ class BagFiles(Protocol):
 
 
 class FolderBagFiles:
-    """Embedded mode: bags are files and directories under one served folder (read-only);
-    indexes go to a separate writable directory."""
+    """Embedded mode: bags under one served folder (never written to), bags the server made itself
+    (filter_bag) in a local store, and indexes in a writable directory."""
 
-    def __init__(self, root: Path, index_root: Path) -> None:
+    def __init__(self, root: Path, index_root: Path, store: LocalStore) -> None:
         self._root = root.resolve()
         self._index_root = index_root
+        self._store = store
         index_root.mkdir(parents=True, exist_ok=True)
+
+    def path_for(self, record: BagRecord) -> Path:
+        if record.in_store:
+            path = self._store.local_path(record.source)
+            return path / record.files[0] if record.layout == "file" else path
+        path = (self._root / record.source).resolve()
+        if not path.is_relative_to(self._root) or not path.exists():
+            raise StorageError(f"bag {record.name} is no longer under the served folder {self._root}")
+        return path
 
     def index_dir(self, record: BagRecord) -> Path | None:
         path = self._index_root / record.id
@@ -48,12 +58,6 @@ class FolderBagFiles:
         shutil.rmtree(target, ignore_errors=True)
         shutil.move(built, target)
         return sorted(p.name for p in target.iterdir() if p.name != _COMPLETE)
-
-    def path_for(self, record: BagRecord) -> Path:
-        path = (self._root / record.source).resolve()
-        if not path.is_relative_to(self._root) or not path.exists():
-            raise StorageError(f"bag {record.name} is no longer under the served folder {self._root}")
-        return path
 
 
 class CachedBagFiles:

@@ -15,7 +15,7 @@ Submitter = Callable[[str], None]
 
 @dataclass(frozen=True)
 class BagStoreDeps:
-    """``store`` is the writable object store (None when serving a read-only folder).
+    """``store`` is where new bags go (uploads, filter_bag); ``uploads`` False refuses REST uploads.
 
     ``submit_ingest`` and ``submit_job`` hand a bag id / job id to whatever runs background work
     (Celery in team mode, a thread pool when embedded). ``job_budget_s`` is how long a tool waits
@@ -28,5 +28,6 @@ class BagStoreDeps:
     submit_ingest: Submitter
     submit_job: Submitter
     store: ObjectStore | None = None
+    uploads: bool = True
     max_result_bytes: int = 16_000
     job_budget_s: float = 20.0

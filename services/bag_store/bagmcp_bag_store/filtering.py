@@ -62,7 +62,7 @@ def filter_bag(
     deps: BagStoreDeps, params: dict[str, JsonValue], report: ProgressReporter | Callable[[float, str], None]
 ) -> FilterResult:
     if deps.store is None:
-        raise ReadOnlyError("this server serves a read-only folder of bags; filter_bag cannot store new bags")
+        raise ReadOnlyError("this server has no writable store; filter_bag cannot store new bags")
     with opened(deps, str(params["bag"])) as ob, tempfile.TemporaryDirectory(prefix="bagmcp-filter-") as tmp:
         include = _strings(params.get("include_topics"), "include_topics") or None
         start, end = params.get("start"), params.get("end")

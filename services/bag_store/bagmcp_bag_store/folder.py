@@ -50,6 +50,7 @@ def _record(root: Path, bag: Path) -> BagRecord:
         layout="directory" if bag.is_dir() else "file",
         files=[m.name for m in members],
         source=str(bag.relative_to(root)),
+        in_store=False,
         sha256=sha,
         size_bytes=sum(m.stat().st_size for m in members),
         created_at=time.time(),
@@ -71,7 +72,7 @@ def catalog_folder(catalog: Catalog, root: Path) -> list[str]:
                     break
                 except NameTakenError:
                     name = f"{record.name}-{n}"
-            catalog.put(record.model_copy(update={"name": name}))
+            catalog.add(record.model_copy(update={"name": name}))
             ids.append(record.id)
         except (BagmcpError, UploadError, OSError) as err:
             log.warning("skipping %s: %s", bag, err)

@@ -11,7 +11,8 @@ from pydantic import JsonValue
 
 from bagmcp_bag_store.deps import BagStoreDeps
 from bagmcp_bag_store.errors import BagNotFoundError
-from bagmcp_shared.bags import open_bag
+from bagmcp_bag_store.models import BagRecord
+from bagmcp_shared.bags import BagReader, open_bag
 from bagmcp_shared.bags.report import summary_dict
 from bagmcp_shared.columns import build_index
 from bagmcp_shared.errors import BagError
@@ -19,37 +20,54 @@ from bagmcp_shared.errors import BagError
 log = logging.getLogger(__name__)
 
 
-def _definitions(connections: list[tuple[str, str, str]]) -> dict[str, JsonValue]:
-    return {msgtype: {"format": fmt, "text": text} for msgtype, fmt, text in connections}
+def _definitions(bag: BagReader) -> dict[str, JsonValue]:
+    return {c.msgtype: {"format": c.definition_format, "text": c.definition} for c in bag.connections}
+
+
+def _index(deps: BagStoreDeps, record: BagRecord, bag: BagReader) -> list[str]:
+    """The bag's columnar index: reused when this process already has a complete one, else built."""
+    if deps.files.index_dir(record) is not None:
+        return record.index_files
+    with tempfile.TemporaryDirectory(prefix="bagmcp-index-") as tmp:
+        build_index(bag, Path(tmp) / "columns")
+        return deps.files.publish_index(record, Path(tmp) / "columns")
+
+
+def mark_failed(deps: BagStoreDeps, bag_id: str, reason: str) -> None:
+    """Record why a bag cannot be used (no-op if it was deleted meanwhile)."""
+    record = deps.catalog.get(bag_id)
+    if record is not None:
+        deps.catalog.replace(record.model_copy(update={"status": "failed", "error": reason}))
 
 
 def ingest_bag(deps: BagStoreDeps, bag_id: str) -> str:
     """Summarize the bag, build its columnar index, and mark it ready (or failed, with the reason).
 
-    Idempotent: a redelivered task on a ready bag does nothing.
+    Idempotent: a redelivered task on a ready bag does nothing. Storage errors propagate so the
+    caller can retry; a bag deleted while ingesting stays deleted.
     """
     record = deps.catalog.get(bag_id)
     if record is None:
         raise BagNotFoundError(f"bag {bag_id} is not in the catalog (deleted while queued?)")
     if record.status == "ready":
         return record.status
+    path = deps.files.path_for(record)
     try:
-        with (
-            open_bag(deps.files.path_for(record)) as bag,
-            tempfile.TemporaryDirectory(prefix="bagmcp-index-") as tmp,
-        ):
+        with open_bag(path) as bag:
             summary: dict[str, JsonValue] = json.loads(json.dumps(summary_dict(bag.summary())))
-            definitions = _definitions([(c.msgtype, c.definition_format, c.definition) for c in bag.connections])
-            build_index(bag, Path(tmp) / "columns")
-            index_files = deps.files.publish_index(record, Path(tmp) / "columns")
+            definitions = _definitions(bag)
+            index_files = _index(deps, record, bag)
     except BagError as err:
-        log.warning("ingest of %s failed: %s", bag_id, err)
-        deps.catalog.put(record.model_copy(update={"status": "failed", "error": str(err)}))
+        reason = str(err).replace(str(path), record.name)  # no server paths in what clients see
+        log.warning("ingest of %s failed: %s", bag_id, reason)
+        mark_failed(deps, bag_id, reason)
         return "failed"
     summary["path"] = record.name
-    if deps.store is not None:
+    if deps.store is not None and record.in_store:
         index = {"summary": summary, "definitions": definitions}
         deps.store.put_bytes(f"indexes/{bag_id}/summary.json", json.dumps(index).encode())
     ready = {"status": "ready", "summary": summary, "error": None, "index_files": index_files}
-    deps.catalog.put(record.model_copy(update=ready))
+    if not deps.catalog.replace(record.model_copy(update=ready)):
+        log.info("bag %s was deleted while it was ingested", bag_id)
+        return "deleted"
     return "ready"

@@ -10,6 +10,7 @@ from pydantic import JsonValue
 from bagmcp_bag_store.deps import BagStoreDeps
 from bagmcp_bag_store.jobs import TERMINAL, JobCancelledError, ProgressReporter, update
 from bagmcp_bag_store.search import search_messages
+from bagmcp_shared.bags.writer import FilterCancelled
 from bagmcp_shared.errors import BagmcpError
 
 log = logging.getLogger(__name__)
@@ -43,7 +44,7 @@ def run_job(deps: BagStoreDeps, job_id: str) -> str:
     report = ProgressReporter(deps.jobs, job_id)
     try:
         result = KINDS[job.kind](deps, job.params, report)
-    except JobCancelledError:
+    except (JobCancelledError, FilterCancelled):
         update(deps.jobs, job_id, state="cancelled", message="cancelled")
         return "cancelled"
     except BagmcpError as err:

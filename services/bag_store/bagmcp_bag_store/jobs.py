@@ -47,13 +47,18 @@ class Job(BaseModel):
 
 
 class JobStore(Protocol):
+    """Jobs by id. The cancel request is kept apart from the job record, so a worker's progress
+    update can never erase it and a cancel can never overwrite a finished job."""
+
     def put(self, job: Job) -> None: ...
     def get(self, job_id: str) -> Job | None: ...
+    def request_cancel(self, job_id: str) -> None: ...
 
 
 class MemoryJobStore:
     def __init__(self) -> None:
         self._jobs: dict[str, Job] = {}
+        self._cancelled: set[str] = set()
         self._lock = threading.Lock()
 
     def put(self, job: Job) -> None:
@@ -62,7 +67,12 @@ class MemoryJobStore:
 
     def get(self, job_id: str) -> Job | None:
         with self._lock:
-            return self._jobs.get(job_id)
+            job = self._jobs.get(job_id)
+            return job.model_copy(update={"cancel_requested": True}) if job and job_id in self._cancelled else job
+
+    def request_cancel(self, job_id: str) -> None:
+        with self._lock:
+            self._cancelled.add(job_id)
 
 
 class RedisJobStore:
@@ -70,28 +80,36 @@ class RedisJobStore:
         self._redis = client
 
     def put(self, job: Job) -> None:
+        record = job.model_copy(update={"cancel_requested": False})
         try:
-            self._redis.set(_KEY + job.id, job.model_dump_json(), ex=_TTL_S)
+            self._redis.set(_KEY + job.id, record.model_dump_json(), ex=_TTL_S)
         except redis.RedisError as err:
             raise StorageError(f"the job store (Redis) is unreachable: {err}") from err
 
     def get(self, job_id: str) -> Job | None:
         try:
-            raw = self._redis.get(_KEY + job_id)
+            raw, cancelled = self._redis.mget([_KEY + job_id, _KEY + job_id + ":cancel"])
         except redis.RedisError as err:
             raise StorageError(f"the job store (Redis) is unreachable: {err}") from err
-        return Job.model_validate_json(raw) if isinstance(raw, bytes) else None
+        if not isinstance(raw, bytes):
+            return None
+        return Job.model_validate_json(raw).model_copy(update={"cancel_requested": cancelled is not None})
+
+    def request_cancel(self, job_id: str) -> None:
+        try:
+            self._redis.set(_KEY + job_id + ":cancel", b"1", ex=_TTL_S)
+        except redis.RedisError as err:
+            raise StorageError(f"the job store (Redis) is unreachable: {err}") from err
 
 
 def update(store: JobStore, job_id: str, **changes: object) -> Job:
-    """Change fields of a stored job (last writer wins; a cancel request is never lost)."""
+    """Change fields of a job that has not ended; an ended job is returned unchanged."""
     job = store.get(job_id)
     if job is None:
         raise JobNotFoundError(f"job {job_id} no longer exists")
+    if job.state in TERMINAL:
+        return job
     fresh = job.model_copy(update={**changes, "updated_at": time.time()})
-    latest = store.get(job_id)
-    if latest is not None and latest.cancel_requested:
-        fresh = fresh.model_copy(update={"cancel_requested": True})
     store.put(fresh)
     return fresh
 

@@ -9,7 +9,7 @@ from mcp.server.mcpserver import Context
 from pydantic import JsonValue
 
 from bagmcp_bag_store.deps import BagStoreDeps
-from bagmcp_bag_store.jobs import TERMINAL, Job, owned, update
+from bagmcp_bag_store.jobs import TERMINAL, Job, owned
 from bagmcp_bag_store.results import JobInfo
 
 OWNER_META_KEY = "bagmcp/owner"
@@ -62,4 +62,5 @@ def cancel_job(deps: BagStoreDeps, ctx: Context, job_id: str) -> JobInfo:
     job = owned(deps.jobs, job_id, owner_of(ctx))
     if job.state in TERMINAL:
         return job_info(job)
-    return job_info(update(deps.jobs, job_id, cancel_requested=True, message="cancellation requested"))
+    deps.jobs.request_cancel(job_id)
+    return job_info(owned(deps.jobs, job_id, job.owner).model_copy(update={"message": "cancellation requested"}))

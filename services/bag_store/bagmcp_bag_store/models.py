@@ -14,8 +14,8 @@ class BagRecord(BaseModel):
 
     ``files`` are the bag's files relative to its root: one name for a single-file bag, the
     storage files and metadata.yaml for a ROS 2 directory (``layout == "directory"``).
-    ``source`` is where the files live: an object-key prefix (``bags/<id>``) in team mode or
-    a path relative to the served folder in embedded mode.
+    ``source`` is where the files live: an object-key prefix (``bags/<id>``) when ``in_store``,
+    else a path relative to the folder an embedded server serves (read-only).
     """
 
     id: str
@@ -23,6 +23,7 @@ class BagRecord(BaseModel):
     layout: Literal["file", "directory"]
     files: list[str]
     source: str
+    in_store: bool
     sha256: str
     size_bytes: int
     status: BagStatus = "ingesting"

@@ -4,11 +4,12 @@ from __future__ import annotations
 
 from collections.abc import Callable
 
-from celery import Celery
+from celery import Celery, Task
 
 from bagmcp_bag_store.deps import BagStoreDeps
-from bagmcp_bag_store.ingest import ingest_bag
+from bagmcp_bag_store.ingest import ingest_bag, mark_failed
 from bagmcp_bag_store.jobrun import run_job
+from bagmcp_shared.errors import StorageError
 
 INGEST_TASK = "bagmcp.bag_store.ingest"
 JOB_TASK = "bagmcp.bag_store.run_job"
@@ -43,9 +44,15 @@ def create_celery(redis_url: str, *, visibility_timeout_s: int = 3600) -> Celery
 def register_tasks(app: Celery, deps: Callable[[], BagStoreDeps]) -> None:
     """Bind the tasks to ``app``; ``deps`` is called lazily in the worker process."""
 
-    @app.task(name=INGEST_TASK, bind=True, max_retries=3, default_retry_delay=5)  # type: ignore[untyped-decorator]
-    def ingest(self: object, bag_id: str) -> str:
-        return ingest_bag(deps(), bag_id)
+    @app.task(name=INGEST_TASK, bind=True, max_retries=4)  # type: ignore[untyped-decorator]
+    def ingest(self: Task, bag_id: str) -> str:
+        try:
+            return ingest_bag(deps(), bag_id)
+        except StorageError as err:
+            if self.request.retries >= self.max_retries:
+                mark_failed(deps(), bag_id, f"storage was unavailable while ingesting ({err}); upload it again")
+                return "failed"
+            raise self.retry(exc=err, countdown=5 * 2**self.request.retries) from err
 
     @app.task(name=JOB_TASK, bind=True)  # type: ignore[untyped-decorator]
     def job(self: object, job_id: str) -> str:

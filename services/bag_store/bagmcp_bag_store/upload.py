@@ -17,10 +17,9 @@ from bagmcp_bag_store.deps import BagStoreDeps
 from bagmcp_bag_store.errors import ReadOnlyError, UploadError, UploadTooLargeError
 from bagmcp_bag_store.models import BagRecord
 from bagmcp_shared.bags import open_bag
-from bagmcp_shared.errors import BagmcpError, StorageError
+from bagmcp_shared.errors import StorageError
 from bagmcp_shared.storage import ObjectStore
 
-_CHUNK = 1 << 20
 _ARCHIVE_SUFFIXES = (".tar.gz", ".tgz", ".tar", ".zip")
 
 
@@ -79,16 +78,16 @@ def _layout(received: Received, staging: Path, filename: str, max_bytes: int) ->
 
 
 def _put_all(store: ObjectStore, root: Path, files: list[str], prefix: str) -> None:
-    done: list[str] = []
-    try:
+    for name in files:
+        store.put_file(f"{prefix}/{name}", root if root.is_file() else root / name)
+
+
+def _remove_unlisted(deps: BagStoreDeps, bag_id: str, files: list[str]) -> None:
+    """After a failed registration, remove its objects unless another registration of the same
+    content (same keys) got listed meanwhile."""
+    if deps.store is not None and deps.catalog.get(bag_id) is None:
         for name in files:
-            source = root if root.is_file() else root / name
-            store.put_file(f"{prefix}/{name}", source)
-            done.append(f"{prefix}/{name}")
-    except BagmcpError:
-        for key in done:
-            store.delete(key)
-        raise
+            deps.store.delete(f"bags/{bag_id}/{name}")
 
 
 def register_bag(
@@ -113,14 +112,18 @@ def register_bag(
             layout="file" if root.is_file() else "directory",
             files=files,
             source=f"bags/{bag_id}",
+            in_store=True,
             sha256=sha,
             size_bytes=size,
             created_at=time.time(),
             tags=tags,
         )
-        deps.catalog.put(record)
+        if not deps.catalog.add(record):  # the same content was registered concurrently
+            deps.catalog.release_name(name, bag_id)
+            return deps.catalog.get(bag_id) or record, False
     except BaseException:
         deps.catalog.release_name(name, bag_id)
+        _remove_unlisted(deps, bag_id, files)
         raise
     return record, True
 
@@ -136,7 +139,7 @@ def store_upload(
     max_bytes: int,
 ) -> tuple[BagRecord, bool]:
     """Validate and store an upload; returns the record and whether it is new (False = duplicate)."""
-    if deps.store is None:
+    if deps.store is None or not deps.uploads:
         raise ReadOnlyError("this server serves a read-only folder of bags; uploads are disabled")
     staging = staging_root / f"staging-{uuid.uuid4().hex}"
     staging.mkdir(parents=True)
@@ -159,8 +162,8 @@ def store_upload(
 
 def delete_bag(deps: BagStoreDeps, record: BagRecord) -> None:
     """Remove a bag's catalog entry, objects and index (catalog first, so it vanishes at once)."""
-    if deps.store is None:
-        raise ReadOnlyError("this server serves a read-only folder of bags; deletes are disabled")
+    if deps.store is None or not record.in_store:
+        raise ReadOnlyError(f"bag {record.name} is part of the served folder; remove it there, not through bagmcp")
     deps.catalog.delete(record.id)
     for name in record.files:
         deps.store.delete(f"{record.source}/{name}")

@@ -12,66 +12,85 @@ import redis
 from celery import Celery
 
 from bagmcp_bag_store.bagfiles import CachedBagFiles, FolderBagFiles
-from bagmcp_bag_store.catalog import MemoryCatalog, RedisCatalog
+from bagmcp_bag_store.catalog_memory import MemoryCatalog
+from bagmcp_bag_store.catalog_redis import RedisCatalog
 from bagmcp_bag_store.deps import BagStoreDeps
 from bagmcp_bag_store.folder import catalog_folder
-from bagmcp_bag_store.ingest import ingest_bag
+from bagmcp_bag_store.ingest import ingest_bag, mark_failed
 from bagmcp_bag_store.jobrun import run_job
 from bagmcp_bag_store.jobs import MemoryJobStore, RedisJobStore
 from bagmcp_bag_store.settings import BagStoreSettings
 from bagmcp_bag_store.tasks import INGEST_TASK, JOB_TASK, create_celery
-from bagmcp_shared.errors import BagmcpError, StorageError
-from bagmcp_shared.storage import S3Store
+from bagmcp_shared.errors import StorageError
+from bagmcp_shared.storage import LocalStore, S3Store
 
 log = logging.getLogger(__name__)
 
 
 class ThreadRunner:
-    """Background work inside this process (embedded mode): ingest and jobs on a small thread pool."""
+    """Background work inside this process (embedded mode): ingest and jobs on separate thread pools,
+    so a search never waits behind start-up ingest."""
 
-    def __init__(self, workers: int = 2) -> None:
-        self.pool = ThreadPoolExecutor(max_workers=workers, thread_name_prefix="bagmcp-work")
+    def __init__(self, *, ingest_workers: int = 1, job_workers: int = 2) -> None:
+        self._ingest_pool = ThreadPoolExecutor(max_workers=ingest_workers, thread_name_prefix="bagmcp-ingest")
+        self._job_pool = ThreadPoolExecutor(max_workers=job_workers, thread_name_prefix="bagmcp-job")
+        self._jobs: set[str] = set()
         self.deps: BagStoreDeps | None = None
 
     def ingest(self, bag_id: str) -> None:
-        self.pool.submit(self._ingest, bag_id)
+        self._ingest_pool.submit(self._ingest, bag_id)
 
     def job(self, job_id: str) -> None:
-        self.pool.submit(self._job, job_id)
+        self._jobs.add(job_id)
+        self._job_pool.submit(self._job, job_id)
 
     def _ingest(self, bag_id: str) -> None:
         assert self.deps is not None
         try:
             ingest_bag(self.deps, bag_id)
-        except BagmcpError as err:
-            log.warning("ingest of %s failed: %s", bag_id, err)
+        except Exception as err:  # a thread has no caller to report to: record it on the bag
+            log.exception("ingest of %s failed", bag_id)
+            mark_failed(self.deps, bag_id, f"ingest failed ({type(err).__name__}: {err})")
 
     def _job(self, job_id: str) -> None:
         assert self.deps is not None
         run_job(self.deps, job_id)
 
+    def shutdown(self) -> None:
+        """Stop taking work, ask running jobs to stop, and drop what has not started."""
+        if self.deps is not None:
+            for job_id in self._jobs:
+                self.deps.jobs.request_cancel(job_id)
+        for pool in (self._ingest_pool, self._job_pool):
+            pool.shutdown(wait=False, cancel_futures=True)
 
-def default_index_root() -> Path:
-    base = os.environ.get("XDG_CACHE_HOME") or str(Path.home() / ".cache")
-    return Path(os.environ.get("BAGMCP_INDEX_DIR", Path(base) / "bagmcp" / "index"))
+
+def default_data_dir() -> Path:
+    """Where an embedded server keeps indexes and the bags it makes (never inside the served folder)."""
+    cache = os.environ.get("XDG_CACHE_HOME") or str(Path.home() / ".cache")
+    return Path(os.environ.get("BAGMCP_DATA_DIR") or Path(cache) / "bagmcp")
 
 
 def folder_deps(
-    root: Path, *, index_root: Path | None = None, job_budget_s: float = 20.0
+    root: Path, *, data_dir: Path | None = None, job_budget_s: float = 20.0
 ) -> tuple[BagStoreDeps, ThreadRunner]:
-    """Embedded mode: a read-only folder, an in-memory catalog, work on a local thread pool.
+    """Embedded mode: the served folder (read-only), an in-memory catalog, work on a thread pool.
 
-    Every bag under ``root`` is catalogued now and ingested in the background; indexes are
-    written under ``index_root`` (the folder itself is never written to).
+    Every bag under ``root`` is catalogued now and ingested in the background. Indexes and the
+    bags filter_bag writes go under ``data_dir``; REST uploads are refused.
     """
+    data = data_dir or default_data_dir()
+    store = LocalStore(data / "store")
     runner = ThreadRunner()
     catalog = MemoryCatalog()
     deps = BagStoreDeps(
         catalog=catalog,
-        files=FolderBagFiles(root, index_root or default_index_root()),
+        files=FolderBagFiles(root, data / "index", store),
         jobs=MemoryJobStore(),
         submit_ingest=runner.ingest,
         submit_job=runner.job,
+        store=store,
+        uploads=False,
         job_budget_s=job_budget_s,
     )
     runner.deps = deps

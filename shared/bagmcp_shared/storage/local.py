@@ -123,6 +123,10 @@ class LocalStore(StreamPutters):
             return None
         return ObjectInfo(key, info.st_size)
 
+    def local_path(self, key: str) -> Path:
+        """Where the object ``key`` lives on disk (validated to stay inside the store)."""
+        return self._path(key)
+
     def _path(self, key: str) -> Path:
         try:
             resolved = self._root.joinpath(*validate_key(key).split("/")).resolve()

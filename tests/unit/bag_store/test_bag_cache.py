@@ -22,6 +22,7 @@ def _record(store: LocalStore, bag_id: str, size: int) -> BagRecord:
         layout="file",
         files=[f"{bag_id}.bag"],
         source=f"bags/{bag_id}",
+        in_store=True,
         sha256="0" * 64,
         size_bytes=size,
         created_at=time.time(),
