@@ -19,9 +19,12 @@ from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
+from pydantic import JsonValue
 from rosbags.rosbag2 import StoragePlugin, Writer
 from rosbags.typesys import Stores, get_typestore
 
+from bagmcp_bag_store.search import search_messages
+from bagmcp_bag_store.wiring import folder_deps
 from bagmcp_shared.bags import open_bag
 from bagmcp_shared.columns import ColumnIndex, build_index, read_series
 
@@ -103,6 +106,24 @@ def median_s(run: Callable[[], object], repeat: int) -> float:
     return statistics.median(times)
 
 
+def time_search_tool(folder: Path, name: str, repeat: int) -> tuple[float, float]:
+    """The whole search_messages path (catalog, open, index or decode, answer) with and without the index."""
+    with tempfile.TemporaryDirectory() as data:
+        deps, runner = folder_deps(folder, data_dir=Path(data))
+        while any(r.status == "ingesting" for r in deps.catalog.all()):
+            time.sleep(0.2)
+        params: dict[str, JsonValue] = {
+            "bag": name,
+            "topic": "/odom",
+            "condition": "near_position",
+            "value": {"x": 1.0, "y": 0.0, "radius": 0.2},
+        }
+        with_index = median_s(lambda: search_messages(deps, params, lambda f, m: None, use_index=True), repeat)
+        without = median_s(lambda: search_messages(deps, params, lambda f, m: None, use_index=False), repeat)
+        runner.shutdown()
+    return with_index, without
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--size-gb", type=float, default=2.0)
@@ -128,6 +149,7 @@ def main() -> None:
         assert all(np.array_equal(from_index.columns[c], from_bag.columns[c]) for c in COLUMNS)
         index_s = median_s(lambda: read_series(reader, "/odom", COLUMNS, index=index), args.repeat)
         bag_s = median_s(lambda: read_series(reader, "/odom", COLUMNS, index=None), args.repeat)
+    tool_index_s, tool_bag_s = time_search_tool(args.dir, bag.name, args.repeat)
     report = {
         "bag_bytes": size,
         "odometry_messages": len(from_index.t_ns),
@@ -136,6 +158,9 @@ def main() -> None:
         "median_index_read_s": round(index_s, 6),
         "median_bag_decode_s": round(bag_s, 3),
         "speedup": round(bag_s / index_s, 1),
+        "median_search_tool_index_s": round(tool_index_s, 4),
+        "median_search_tool_bag_s": round(tool_bag_s, 3),
+        "search_tool_speedup": round(tool_bag_s / tool_index_s, 1),
     }
     print(json.dumps(report, indent=1))
 

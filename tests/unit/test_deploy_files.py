@@ -31,9 +31,7 @@ def _procfile_command(name: str) -> list[str]:
 
 def test_every_app_service_runs_the_same_command_in_compose_and_in_the_stack() -> None:
     for name in APPS:
-        compose_command = COMPOSE["services"][name]["command"]
-        stack_command = _procfile_command(name)
-        assert stack_command[: len(compose_command)] == compose_command[: len(stack_command)], name
+        assert _procfile_command(name) == COMPOSE["services"][name]["command"], name
 
 
 def test_only_the_gateway_publishes_a_port() -> None:

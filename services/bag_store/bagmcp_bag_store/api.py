@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import tarfile
-import tempfile
 from collections.abc import Iterator
 from pathlib import Path
 from typing import Annotated
@@ -61,12 +60,18 @@ def install_error_handler(app: FastAPI) -> None:
 
 
 def _tar_stream(root: Path) -> Iterator[bytes]:
-    with tempfile.SpooledTemporaryFile(max_size=16 << 20) as spool:
-        with tarfile.open(fileobj=spool, mode="w") as tar:
-            tar.add(root, arcname=root.name)
-        spool.seek(0)
-        while chunk := spool.read(1 << 20):
-            yield chunk
+    """A ROS 2 bag directory as a tar stream, produced while it is sent (no temporary copy)."""
+    for path in sorted(p for p in root.iterdir() if p.is_file()):
+        info = tarfile.TarInfo(f"{root.name}/{path.name}")
+        info.size = path.stat().st_size
+        info.mtime = int(path.stat().st_mtime)
+        yield info.tobuf(format=tarfile.PAX_FORMAT)
+        with path.open("rb") as file:
+            while chunk := file.read(1 << 20):
+                yield chunk
+        if remainder := info.size % tarfile.BLOCKSIZE:
+            yield b"\0" * (tarfile.BLOCKSIZE - remainder)
+    yield b"\0" * (2 * tarfile.BLOCKSIZE)
 
 
 def build_router(deps: BagStoreDeps, *, upload_dir: Path, max_upload_bytes: int) -> APIRouter:

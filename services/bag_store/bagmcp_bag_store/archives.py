@@ -42,10 +42,11 @@ def _extract_zip(path: Path, dest: Path, max_bytes: int) -> None:
 
 def _extract_tar(path: Path, dest: Path, max_bytes: int) -> None:
     with tarfile.open(path) as archive:
-        members = archive.getmembers()
-        if len(members) > MAX_MEMBERS or sum(m.size for m in members) > max_bytes:
-            raise UploadError("the archive unpacks to more than the upload limit allows")
-        for member in members:
+        total = 0
+        for number, member in enumerate(archive, start=1):  # headers are read one at a time
+            total += member.size
+            if number > MAX_MEMBERS or total > max_bytes:
+                raise UploadError("the archive unpacks to more than the upload limit allows")
             _check_member(member.name)
             if not (member.isfile() or member.isdir()):
                 raise UploadError(f"the archive holds {member.name!r}, which is not a plain file; refusing it")

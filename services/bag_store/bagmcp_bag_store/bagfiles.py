@@ -2,9 +2,12 @@
 
 from __future__ import annotations
 
+import fcntl
 import os
 import shutil
 import threading
+from collections.abc import Iterator
+from contextlib import contextmanager
 from pathlib import Path
 from typing import Protocol
 
@@ -61,27 +64,56 @@ class FolderBagFiles:
 
 
 class CachedBagFiles:
-    """Team mode: bag files live in the object store; workers keep a bounded local cache by id."""
+    """Team mode: bag files live in the object store; each process keeps a bounded local cache by id.
+
+    Fetches of one bag are serialized across threads and processes (a lock file per entry), so
+    two workers never download the same bag at once and eviction skips entries being fetched.
+    """
 
     def __init__(self, store: ObjectStore, cache_dir: Path, *, max_bytes: int) -> None:
         self._store = store
         self._dir = cache_dir
         self._max_bytes = max_bytes
-        self._lock = threading.Lock()
+        self._guard = threading.Lock()
+        self._locks: dict[str, threading.Lock] = {}
         cache_dir.mkdir(parents=True, exist_ok=True)
 
-    def _local(self, record: BagRecord, root: Path) -> Path:
-        return root / record.files[0] if record.layout == "file" else root
+    @contextmanager
+    def _locked(self, name: str) -> Iterator[None]:
+        with self._guard:
+            lock = self._locks.setdefault(name, threading.Lock())
+        with lock, (self._dir / f".lock-{name}").open("a") as handle:
+            fcntl.flock(handle, fcntl.LOCK_EX)
+            try:
+                yield
+            finally:
+                fcntl.flock(handle, fcntl.LOCK_UN)
+
+    def _ensure(self, name: str, keys: list[str]) -> Path:
+        root = self._dir / name
+        if not (root / _COMPLETE).exists():
+            with self._locked(name):
+                if not (root / _COMPLETE).exists():
+                    self._fetch_objects(keys, root)
+            self._evict(keep=name)
+        os.utime(root / _COMPLETE)
+        return root
 
     def path_for(self, record: BagRecord) -> Path:
-        root = self._dir / record.id
-        with self._lock:
-            if (root / _COMPLETE).exists():
-                os.utime(root / _COMPLETE)
-                return self._local(record, root)
-            self._fetch_objects([f"{record.source}/{name}" for name in record.files], root)
-            self._evict(keep=record.id)
-        return self._local(record, root)
+        root = self._ensure(record.id, [f"{record.source}/{name}" for name in record.files])
+        return root / record.files[0] if record.layout == "file" else root
+
+    def index_dir(self, record: BagRecord) -> Path | None:
+        if not record.index_files:
+            return None
+        keys = [f"indexes/{record.id}/columns/{n}" for n in record.index_files]
+        return self._ensure(f"{record.id}-index", keys)
+
+    def publish_index(self, record: BagRecord, built: Path) -> list[str]:
+        names = sorted(p.name for p in built.iterdir() if p.is_file())
+        for name in names:
+            self._store.put_file(f"indexes/{record.id}/columns/{name}", built / name)
+        return names
 
     def _fetch_objects(self, keys: list[str], root: Path) -> None:
         """Download ``keys`` into ``root`` (named by their last part), all or nothing."""
@@ -98,33 +130,26 @@ class CachedBagFiles:
             shutil.rmtree(partial, ignore_errors=True)
 
     def _evict(self, *, keep: str) -> None:
+        """Remove least recently used entries (never ``keep``, never one being fetched) past the limit."""
         entries = []
         for entry in self._dir.iterdir():
             marker = entry / _COMPLETE
-            if entry.name != keep and marker.exists():
+            if marker.exists():
                 size = sum(f.stat().st_size for f in entry.iterdir())
                 entries.append((marker.stat().st_mtime, size, entry))
-        total = sum(size for _, size, _ in entries) + sum(f.stat().st_size for f in (self._dir / keep).iterdir())
+        total = sum(size for _, size, _ in entries)
         for _, size, entry in sorted(entries):
             if total <= self._max_bytes:
                 break
+            if entry.name != keep and self._try_remove(entry):
+                total -= size
+
+    def _try_remove(self, entry: Path) -> bool:
+        with (self._dir / f".lock-{entry.name}").open("a") as handle:
+            try:
+                fcntl.flock(handle, fcntl.LOCK_EX | fcntl.LOCK_NB)
+            except BlockingIOError:
+                return False
             shutil.rmtree(entry, ignore_errors=True)
-            total -= size
-
-    def index_dir(self, record: BagRecord) -> Path | None:
-        if not record.index_files:
-            return None
-        root = self._dir / f"{record.id}-index"
-        with self._lock:
-            if not (root / _COMPLETE).exists():
-                self._fetch_objects([f"indexes/{record.id}/columns/{n}" for n in record.index_files], root)
-        return root
-
-    def publish_index(self, record: BagRecord, built: Path) -> list[str]:
-        names = sorted(p.name for p in built.iterdir() if p.is_file())
-        for name in names:
-            self._store.put_file(f"indexes/{record.id}/columns/{name}", built / name)
-        return names
-
-    def forget(self, bag_id: str) -> None:
-        shutil.rmtree(self._dir / bag_id, ignore_errors=True)
+            fcntl.flock(handle, fcntl.LOCK_UN)
+        return True

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import contextlib
+import json
 import logging
 import time
 from pathlib import Path
@@ -36,14 +38,37 @@ def find_bags(root: Path) -> list[Path]:
     return found
 
 
-def _record(root: Path, bag: Path) -> BagRecord:
+class IdCache:
+    """Content ids of files already hashed, keyed by (path, size, mtime): restarts skip re-hashing."""
+
+    def __init__(self, path: Path | None) -> None:
+        self._path = path
+        self._known: dict[str, str] = {}
+        if path is not None and path.is_file():
+            with contextlib.suppress(ValueError, OSError):
+                self._known = dict(json.loads(path.read_text()))
+
+    def content_id(self, members: list[Path], *, directory: bool) -> str:
+        key = "|".join(f"{m.resolve()}:{m.stat().st_size}:{m.stat().st_mtime_ns}" for m in members)
+        if key not in self._known:
+            self._known[key] = content_id(members, directory=directory)
+        return self._known[key]
+
+    def save(self) -> None:
+        if self._path is not None:
+            with contextlib.suppress(OSError):
+                self._path.parent.mkdir(parents=True, exist_ok=True)
+                self._path.write_text(json.dumps(self._known))
+
+
+def _record(root: Path, bag: Path, ids: IdCache) -> BagRecord:
     if bag.is_dir():
         files, _, _ = storage_files(bag)
         members = sorted({*files, *(p for p in bag.iterdir() if p.name == "metadata.yaml")})
     else:
         sniff_file(bag)
         members = [bag]
-    sha = content_id(members, directory=bag.is_dir())
+    sha = ids.content_id(members, directory=bag.is_dir())
     return BagRecord(
         id=sha[:16],
         name=sanitize_name(bag.name),
@@ -57,12 +82,13 @@ def _record(root: Path, bag: Path) -> BagRecord:
     )
 
 
-def catalog_folder(catalog: Catalog, root: Path) -> list[str]:
+def catalog_folder(catalog: Catalog, root: Path, *, id_cache: Path | None = None) -> list[str]:
     """Add every readable-looking bag under ``root``; returns their ids (skips with a log line)."""
     ids: list[str] = []
+    known = IdCache(id_cache)
     for bag in find_bags(root):
         try:
-            record = _record(root, bag)
+            record = _record(root, bag, known)
             if catalog.get(record.id) is not None:
                 continue
             name = record.name
@@ -76,4 +102,5 @@ def catalog_folder(catalog: Catalog, root: Path) -> list[str]:
             ids.append(record.id)
         except (BagmcpError, UploadError, OSError) as err:
             log.warning("skipping %s: %s", bag, err)
+    known.save()
     return ids

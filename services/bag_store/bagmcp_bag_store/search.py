@@ -186,7 +186,7 @@ def _decoded(ob: OpenBag, req: Request, lo: int, hi: int, progress: Progress) ->
         else:
             exists = True
         if test is None:
-            hit, shown_value = exists and _present(picked), to_json(picked, max_items=8)
+            hit, shown_value = exists and _present(picked), to_json(picked, max_items=8, max_text=300)
         else:
             texts = [str(picked)] if steps is not None else list(_texts(message))
             found = next((t for t in texts if test(t)), None)
@@ -210,6 +210,18 @@ def _closest(ob: OpenBag, found: Found) -> ClosestApproach | None:
         y=float(found.xy[1][best]),
         time=ob.instant(int(found.t_ns[best])),
     )
+
+
+def _within(matches: list[SearchMatch], budget: int) -> list[SearchMatch]:
+    """The leading matches whose JSON fits the byte budget (at least one)."""
+    kept: list[SearchMatch] = []
+    used = 0
+    for match in matches:
+        used += len(match.model_dump_json())
+        if kept and used > budget:
+            break
+        kept.append(match)
+    return kept
 
 
 def search_messages(
@@ -255,6 +267,7 @@ def search_messages(
             )
             for i, t in enumerate(shown)
         ]
+        matches = _within(matches, deps.max_result_bytes)
         progress(1.0, "done")
         return SearchResult(
             bag=ob.record.name,

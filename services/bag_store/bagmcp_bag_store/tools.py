@@ -12,7 +12,7 @@ from mcp.server.mcpserver.exceptions import ToolError
 from mcp.types import CallToolResult, TextContent, ToolAnnotations
 from pydantic import BaseModel, Field, JsonValue
 
-from bagmcp_bag_store import longwork, queries
+from bagmcp_bag_store import longwork, messages, queries
 from bagmcp_bag_store.conditions import Condition, check_value
 from bagmcp_bag_store.deps import BagStoreDeps
 from bagmcp_bag_store.jobs import Job
@@ -32,7 +32,6 @@ from bagmcp_shared.errors import BagmcpError
 
 M = TypeVar("M", bound=BaseModel)
 WRITES = ToolAnnotations(read_only_hint=False, destructive_hint=False, idempotent_hint=True, open_world_hint=False)
-CONTROL = ToolAnnotations(read_only_hint=False, destructive_hint=False, idempotent_hint=True, open_world_hint=False)
 READ_ONLY = ToolAnnotations(read_only_hint=True, destructive_hint=False, idempotent_hint=True, open_world_hint=False)
 BagRef = Annotated[str, Field(description="Bag id, name, or a unique prefix of either (see list_bags).")]
 TopicName = Annotated[str, Field(description="Topic name, e.g. /odom (leading slash optional).")]
@@ -152,7 +151,7 @@ def build_mcp(
         """The message of a topic nearest to a time (by log time), with its offset from the bag
         start, absolute stamp, header stamp, and how far it is from the requested time."""
         return _answer(
-            lambda: queries.get_message_at_time(deps, bag, topic, time, fields),
+            lambda: messages.get_message_at_time(deps, bag, topic, time, fields),
             lambda r: f"{r.topic} at {r.message.time.offset_s:.3f} s ({r.delta_s:+.3f} s from the requested time)",
         )
 
@@ -170,7 +169,7 @@ def build_mcp(
         first. Use `fields` to project message paths. Output is bounded: `total` counts the whole
         window, `truncated` and `next_cursor` continue where this page stopped."""
         return _answer(
-            lambda: queries.get_messages_in_range(deps, bag, topic, start, end, fields, max_messages, cursor),
+            lambda: messages.get_messages_in_range(deps, bag, topic, start, end, fields, max_messages, cursor),
             lambda r: (
                 f"{r.returned} of {r.total} messages of {r.topic}"
                 + (" (truncated; pass next_cursor for more)" if r.truncated else "")
@@ -273,7 +272,7 @@ def build_mcp(
             lambda j: f"job {j.job_id}: {j.state} ({j.progress:.0%}) {j.message}",
         )
 
-    @mcp.tool(annotations=CONTROL)
+    @mcp.tool(annotations=WRITES)
     def cancel_job(ctx: Context, job_id: str) -> Annotated[CallToolResult, JobInfo]:
         """Stop a running or queued job; it ends in state cancelled and keeps nothing half-done."""
         return _answer(

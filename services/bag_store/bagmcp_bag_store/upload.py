@@ -16,10 +16,17 @@ from bagmcp_bag_store.content import content_id
 from bagmcp_bag_store.deps import BagStoreDeps
 from bagmcp_bag_store.errors import ReadOnlyError, UploadError, UploadTooLargeError
 from bagmcp_bag_store.models import BagRecord
-from bagmcp_shared.bags import open_bag
+from bagmcp_shared.bags import BagFormat, open_bag
+from bagmcp_shared.bags.detect import sniff_file
 from bagmcp_shared.errors import StorageError
 from bagmcp_shared.storage import ObjectStore
 
+_SUFFIXES = {
+    BagFormat.ROS1: ".bag",
+    BagFormat.MCAP: ".mcap",
+    BagFormat.ROS2_SQLITE3: ".db3",
+    BagFormat.ROS2_MCAP: ".mcap",
+}
 _ARCHIVE_SUFFIXES = (".tar.gz", ".tgz", ".tar", ".zip")
 
 
@@ -68,7 +75,7 @@ def _layout(received: Received, staging: Path, filename: str, max_bytes: int) ->
     if is_archive(received.path):
         root = extract(received.path, staging / "unpacked", max_bytes=max_bytes)
     else:
-        root = staging / (sanitize_name(filename) + (Path(filename).suffix or ".bag"))
+        root = staging / (sanitize_name(filename) + _SUFFIXES[sniff_file(received.path)])
         shutil.move(received.path, root)
         return root, [root.name], received.sha256
     if root.is_file():

@@ -94,7 +94,7 @@ def folder_deps(
         job_budget_s=job_budget_s,
     )
     runner.deps = deps
-    for bag_id in catalog_folder(catalog, root):
+    for bag_id in catalog_folder(catalog, root, id_cache=data / "content-ids.json"):
         deps.submit_ingest(bag_id)
     return deps, runner
 
