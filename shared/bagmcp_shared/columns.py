@@ -175,6 +175,16 @@ def _collectors(reader: BagReader) -> dict[str, _Collector]:
     return found
 
 
+def header_rate_hz(header_ns: npt.NDArray[np.int64]) -> float | None:
+    """Mean rate from header stamps when they are present and sane (all set, mostly increasing)."""
+    if len(header_ns) < 2 or not (header_ns > 0).all():
+        return None
+    if float(np.mean(np.diff(header_ns) >= 0)) < 0.99:
+        return None
+    span = int(header_ns.max() - header_ns.min())
+    return round((len(header_ns) - 1) * 1e9 / span, 4) if span > 0 else None
+
+
 def build_index(
     reader: BagReader, directory: Path, progress: Callable[[float, str], None] | None = None
 ) -> dict[str, dict[str, object]]:
@@ -206,7 +216,12 @@ def build_index(
         cast(Callable[..., None], np.savez)(
             directory / _slug(topic), t_ns=series.t_ns, header_ns=series.header_ns, **columns
         )
-        manifest[topic] = {"file": _slug(topic), "columns": collector.names, "count": len(series.t_ns)}
+        manifest[topic] = {
+            "file": _slug(topic),
+            "columns": collector.names,
+            "count": len(series.t_ns),
+            "header_rate_hz": header_rate_hz(series.header_ns),
+        }
     (directory / MANIFEST).write_text(json.dumps({"topics": manifest, "skipped": skipped}, indent=1))
     return manifest
 

@@ -31,6 +31,9 @@ async def check_bag_info(client: Client, name: str) -> None:
     assert info["start"]["stamp_s"] == pytest.approx(sc.START_NS / 1e9)
     odom = next(t for t in info["topics"] if t["name"] == sc.ODOM_TOPIC)
     assert odom["rate_hz"] == pytest.approx(sc.ODOM_HZ)
+    assert odom["header_rate_hz"] == pytest.approx(sc.ODOM_HZ)
+    cmd = next(t for t in info["topics"] if t["name"] == sc.CMD_TOPIC)
+    assert cmd["header_rate_hz"] is None  # geometry_msgs/Twist has no header
 
 
 async def check_describe_topic(client: Client, name: str) -> None:

@@ -14,7 +14,7 @@ from bagmcp_bag_store.errors import BagNotFoundError
 from bagmcp_bag_store.models import BagRecord
 from bagmcp_shared.bags import BagReader, open_bag
 from bagmcp_shared.bags.report import summary_dict
-from bagmcp_shared.columns import build_index
+from bagmcp_shared.columns import MANIFEST, build_index
 from bagmcp_shared.errors import BagError
 
 log = logging.getLogger(__name__)
@@ -24,13 +24,25 @@ def _definitions(bag: BagReader) -> dict[str, JsonValue]:
     return {c.msgtype: {"format": c.definition_format, "text": c.definition} for c in bag.connections}
 
 
-def _index(deps: BagStoreDeps, record: BagRecord, bag: BagReader) -> list[str]:
-    """The bag's columnar index: reused when this process already has a complete one, else built."""
-    if deps.files.index_dir(record) is not None:
-        return record.index_files
+def _index(deps: BagStoreDeps, record: BagRecord, bag: BagReader) -> tuple[list[str], dict[str, float]]:
+    """The bag's columnar index (reused when this process already has a complete one, else built),
+    and the header-stamp rate of each indexed topic that has sane header stamps."""
+    if (existing := deps.files.index_dir(record)) is not None:
+        return record.index_files, _header_rates(json.loads((existing / MANIFEST).read_text())["topics"])
     with tempfile.TemporaryDirectory(prefix="bagmcp-index-") as tmp:
-        build_index(bag, Path(tmp) / "columns")
-        return deps.files.publish_index(record, Path(tmp) / "columns")
+        manifest = build_index(bag, Path(tmp) / "columns")
+        return deps.files.publish_index(record, Path(tmp) / "columns"), _header_rates(manifest)
+
+
+def _header_rates(manifest: dict[str, dict[str, object]]) -> dict[str, float]:
+    return {t: float(r) for t, e in manifest.items() if isinstance(r := e.get("header_rate_hz"), int | float)}
+
+
+def _with_header_rates(summary: dict[str, JsonValue], rates: dict[str, float]) -> None:
+    topics = summary.get("topics")
+    for topic in topics if isinstance(topics, list) else []:
+        if isinstance(topic, dict):
+            topic["header_rate_hz"] = rates.get(str(topic.get("name")))
 
 
 def mark_failed(deps: BagStoreDeps, bag_id: str, reason: str) -> None:
@@ -56,13 +68,14 @@ def ingest_bag(deps: BagStoreDeps, bag_id: str) -> str:
         with open_bag(path) as bag:
             summary: dict[str, JsonValue] = json.loads(json.dumps(summary_dict(bag.summary())))
             definitions = _definitions(bag)
-            index_files = _index(deps, record, bag)
+            index_files, header_rates = _index(deps, record, bag)
     except BagError as err:
         reason = str(err).replace(str(path), record.name)  # no server paths in what clients see
         log.warning("ingest of %s failed: %s", bag_id, reason)
         mark_failed(deps, bag_id, reason)
         return "failed"
     summary["path"] = record.name
+    _with_header_rates(summary, header_rates)
     if deps.store is not None and record.in_store:
         index = {"summary": summary, "definitions": definitions}
         deps.store.put_bytes(f"indexes/{bag_id}/summary.json", json.dumps(index).encode())

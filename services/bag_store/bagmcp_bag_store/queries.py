@@ -75,13 +75,14 @@ def bag_info(deps: BagStoreDeps, bag: str) -> BagInfo:
     topics = []
     for t in topics_raw if isinstance(topics_raw, list) else []:
         assert isinstance(t, dict)
-        rate = t.get("rate_hz")
+        rate, header_rate = t.get("rate_hz"), t.get("header_rate_hz")
         topics.append(
             TopicInfo(
                 name=str(t["name"]),
                 type=str(t["type"]),
                 count=int(str(t["count"])),
                 rate_hz=float(rate) if isinstance(rate, int | float) else None,
+                header_rate_hz=float(header_rate) if isinstance(header_rate, int | float) else None,
                 first=_instant(t.get("first"), start_ns),
                 last=_instant(t.get("last"), start_ns),
             )

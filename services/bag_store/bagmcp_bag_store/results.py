@@ -38,10 +38,14 @@ class BagList(BaseModel):
 
 
 class TopicInfo(BaseModel):
+    """``rate_hz`` is from log (receive) times; ``header_rate_hz`` from header stamps where the type
+    has them and they are sane (indexed types)."""
+
     name: str
     type: str
     count: int
     rate_hz: float | None
+    header_rate_hz: float | None = None
     first: Instant | None
     last: Instant | None
 

@@ -1,0 +1,90 @@
+"""`make stack` (deploy/stack/run.sh under honcho) brings the team stack up as local processes,
+serves a token-protected MCP endpoint, and stops every process on Ctrl-C."""
+
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+from pathlib import Path
+
+import anyio
+import httpx
+import pytest
+
+from tests.fixtures.bagfactory import BagKind
+from tests.fixtures.mcp_client import call, http_client
+from tests.fixtures.processes import BIN, http_ok, wait_until
+from tests.fixtures.servers import free_port
+
+ROOT = Path(__file__).resolve().parents[2]
+TOKEN = "stack-test-token"
+
+pytestmark = pytest.mark.integration
+
+
+def _session_members(session: int) -> list[int]:
+    """Live processes of a session (honcho and everything it started share the session)."""
+    members = []
+    for entry in Path("/proc").iterdir():
+        if entry.name.isdigit():
+            try:
+                fields = (entry / "stat").read_text().rsplit(")", 1)[1].split()
+            except OSError:
+                continue
+            if int(fields[3]) == session and fields[0] != "Z":
+                members.append(int(entry.name))
+    return members
+
+
+def test_make_stack_serves_uploads_and_stops_on_ctrl_c(scenario_bags: dict[BagKind, Path], tmp_path: Path) -> None:
+    stack_dir = tmp_path / "stack"
+    ports = {"GATEWAY_PORT": free_port(), "BAG_STORE_PORT": free_port(), "REDIS_PORT": free_port()}
+    s3_port = free_port()
+    while any(p in range(s3_port, s3_port + 4) for p in ports.values()):
+        s3_port = free_port()
+    env = {
+        **os.environ,
+        **{k: str(v) for k, v in ports.items()},
+        "S3_PORT": str(s3_port),
+        "BAGMCP_STACK_DIR": str(stack_dir),
+        "BAGMCP_DEV_TOKEN": TOKEN,
+        "PATH": f"{BIN}:{os.environ['PATH']}",
+    }
+    log = (tmp_path / "stack.log").open("wb")
+    proc = subprocess.Popen(
+        [str(ROOT / "deploy/stack/run.sh")], env=env, stdout=log, stderr=subprocess.STDOUT, start_new_session=True
+    )
+    url = f"http://127.0.0.1:{ports['GATEWAY_PORT']}"
+    try:
+        wait_until(http_ok(f"{url}/readyz"), timeout_s=90, what="the stack's gateway")
+        assert len(_session_members(proc.pid)) >= 6  # honcho, redis, weed, bag-store, worker, gateway
+        upload = subprocess.run(
+            [str(BIN / "bagmcp"), "upload", str(scenario_bags["ros2-mcap"]), "--url", url, "--token", TOKEN],
+            capture_output=True,
+            text=True,
+            timeout=120,
+            check=False,
+        )
+        assert upload.returncode == 0, upload.stderr
+        assert httpx.get(f"{url}/api/v1/bags").status_code == 401
+
+        async def listed() -> list[str]:
+            async with http_client(f"{url}/mcp", TOKEN) as client:
+                with anyio.fail_after(60):
+                    while (bags := (await call(client, "list_bags"))["bags"])[0]["status"] != "ready":
+                        await anyio.sleep(0.3)
+                return [b["name"] for b in bags]
+
+        assert anyio.run(listed) == ["scenario_mcap"]
+        assert (stack_dir / "redis").is_dir()
+        assert (stack_dir / "s3" / "data").is_dir()
+    finally:
+        os.killpg(proc.pid, signal.SIGINT)
+        try:
+            proc.wait(timeout=30)
+        finally:
+            if proc.poll() is None:
+                os.killpg(proc.pid, signal.SIGKILL)
+            log.close()
+    wait_until(lambda: not _session_members(proc.pid), timeout_s=30, what="every stack process to stop")
