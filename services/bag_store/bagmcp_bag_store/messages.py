@@ -35,8 +35,8 @@ def projection(bag: OpenBag, topic: str, fields: list[str] | None) -> list[tuple
 
 
 def _nearest(bag: OpenBag, topic: str, stamp_ns: int) -> RawMessage:
-    summary = bag.reader.summary().topic(topic)
-    if summary is None or not summary.count:
+    summary = bag.topic(topic)
+    if not summary.count:
         raise ArgumentError(f"topic {topic} has no messages in bag {bag.record.name}")
     span = max(bag.end_ns - bag.start_ns, 1)
     radius = max(2 * span // summary.count, 1_000_000)
@@ -77,9 +77,9 @@ def _cursor(text: str | None) -> tuple[int, int, int] | None:
 
 def _count(ob: OpenBag, index: ColumnIndex | None, topic: str, lo: int, hi: int) -> int:
     """Messages of ``topic`` in [lo, hi]: from the index or the summary when they can tell, else counted."""
-    summary = ob.reader.summary().topic(topic)
-    first, last = (summary.first_ns, summary.last_ns) if summary else (None, None)
-    if summary is not None and first is not None and last is not None and lo <= first and hi >= last:
+    summary = ob.topic(topic)
+    first, last = summary.first_ns, summary.last_ns
+    if first is None or last is None or (lo <= first and hi >= last):
         return summary.count
     if index is not None and index.columns(topic):
         times = index.read(topic, []).t_ns

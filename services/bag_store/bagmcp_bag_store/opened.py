@@ -6,14 +6,34 @@ from collections.abc import Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass
 
+from pydantic import JsonValue
+
 from bagmcp_bag_store.catalog import resolve_bag
 from bagmcp_bag_store.deps import BagStoreDeps
 from bagmcp_bag_store.errors import BagNotReadyError
 from bagmcp_bag_store.models import BagRecord
 from bagmcp_bag_store.results import Instant
-from bagmcp_shared.bags import BagReader, open_bag
-from bagmcp_shared.errors import TimeError
+from bagmcp_shared.bags import BagReader, TopicSummary, open_bag
+from bagmcp_shared.errors import TimeError, TopicNotFoundError
 from bagmcp_shared.timebase import Stamp, TimeInput, iso_from_ns, parse_time
+
+
+def _epoch_ns(value: JsonValue) -> int | None:
+    stamp = value.get("epoch_ns") if isinstance(value, dict) else None
+    return stamp if isinstance(stamp, int) else None
+
+
+def catalog_topics(record: BagRecord) -> dict[str, TopicSummary]:
+    """The topics as ingest recorded them (no need to read the bag for counts and bounds)."""
+    topics = record.summary_value("topics")
+    found = {}
+    for t in topics if isinstance(topics, list) else []:
+        if isinstance(t, dict) and isinstance(t.get("count"), int):
+            name = str(t["name"])
+            found[name] = TopicSummary(
+                name, str(t["type"]), int(str(t["count"])), _epoch_ns(t.get("first")), _epoch_ns(t.get("last"))
+            )
+    return found
 
 
 @dataclass(frozen=True)
@@ -22,6 +42,15 @@ class OpenBag:
     reader: BagReader
     start_ns: int
     end_ns: int
+
+    def topic(self, name: str) -> TopicSummary:
+        """Counts and bounds of a topic (leading slash optional) from the catalog."""
+        wanted = name.lstrip("/")
+        found = next((t for n, t in catalog_topics(self.record).items() if n.lstrip("/") == wanted), None)
+        if found is None:
+            self.reader.topic_connections(name)  # raises with the list of topics
+            raise TopicNotFoundError(f"topic {name!r} is not in {self.record.name}")
+        return found
 
     def instant(self, stamp_ns: int) -> Instant:
         stamp = Stamp.of(stamp_ns, start_ns=self.start_ns)
@@ -51,8 +80,8 @@ def ready_record(deps: BagStoreDeps, bag: str) -> BagRecord:
 @contextmanager
 def opened(deps: BagStoreDeps, bag: str) -> Iterator[OpenBag]:
     record = ready_record(deps, bag)
+    start, end = _epoch_ns(record.summary_value("start")), _epoch_ns(record.summary_value("end"))
+    if start is None or end is None:
+        raise TimeError(f"bag {record.name} has no messages")
     with open_bag(deps.files.path_for(record)) as reader:
-        summary = reader.summary()
-        if summary.start_ns is None or summary.end_ns is None:
-            raise TimeError(f"bag {record.name} has no messages")
-        yield OpenBag(record, reader, summary.start_ns, summary.end_ns)
+        yield OpenBag(record, reader, start, end)

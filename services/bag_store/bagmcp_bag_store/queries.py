@@ -110,8 +110,7 @@ def describe_topic(deps: BagStoreDeps, bag: str, topic: str) -> TopicDescription
         conn = ob.reader.topic_connections(topic)[0]
         store = ob.reader.decoder.typestore(conn.msgtype)
         paths = field_paths(store, conn.msgtype)
-        summary = ob.reader.summary().topic(conn.topic)
-        assert summary is not None
+        summary = ob.topic(conn.topic)
         first = next(ob.reader.messages([conn.topic]), None)
         sample = message_out(ob, first, [], deps.max_result_bytes // 2) if first else None
         return TopicDescription(

@@ -175,7 +175,7 @@ def _decoded(ob: OpenBag, req: Request, lo: int, hi: int, progress: Progress) ->
     elif req.condition == "field_exists":
         raise ArgumentError("field_exists needs `field`, the message path to look for")
     test = _text_test(req) if req.condition != "field_exists" else None
-    expected = max(ob.reader.summary().topic(req.topic).count, 1)  # type: ignore[union-attr]
+    expected = max(ob.topic(req.topic).count, 1)
     times, hits, shown = [], [], []
     for number, raw in enumerate(ob.reader.messages([req.topic], start_ns=lo, stop_ns=hi + 1)):
         message = ob.reader.decode(raw)
