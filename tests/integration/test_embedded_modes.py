@@ -30,20 +30,15 @@ def bag_folder(scenario_bags: dict[BagKind, Path], tmp_path_factory: pytest.Temp
     return folder
 
 
+def _serve(folder: Path, port: int, data: Path) -> list[str]:
+    return [str(BIN / "bagmcp"), "serve", "--bags", str(folder), "--port", str(port), "--data", str(data)]
+
+
 @pytest.fixture(scope="module")
 def served(bag_folder: Path, tmp_path_factory: pytest.TempPathFactory) -> Iterator[str]:
     port = free_port()
     url = f"http://127.0.0.1:{port}"
-    command = [
-        str(BIN / "bagmcp"),
-        "serve",
-        "--bags",
-        str(bag_folder),
-        "--port",
-        str(port),
-        "--data",
-        str(tmp_path_factory.mktemp("data")),
-    ]
+    command = _serve(bag_folder, port, tmp_path_factory.mktemp("data"))
     with service(
         "bagmcp-serve",
         command,
@@ -90,18 +85,7 @@ def test_serve_lists_bags_over_rest_and_refuses_uploads_to_a_read_only_folder(se
 
 def test_serve_with_a_token_rejects_calls_without_it(bag_folder: Path, tmp_path: Path) -> None:
     port = free_port()
-    command = [
-        str(BIN / "bagmcp"),
-        "serve",
-        "--bags",
-        str(bag_folder),
-        "--port",
-        str(port),
-        "--token",
-        "t0k",
-        "--data",
-        str(tmp_path / "data"),
-    ]
+    command = [*_serve(bag_folder, port, tmp_path / "data"), "--token", "t0k"]
     with service(
         "bagmcp-serve-token",
         command,
