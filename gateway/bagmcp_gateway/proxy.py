@@ -28,7 +28,8 @@ _ROUTES = re.compile(r"^bags(/[A-Za-z0-9][A-Za-z0-9._-]{0,127}(/download)?)?$")
 
 
 def forwardable(path: str) -> bool:
-    return bool(_ROUTES.match(path)) and ".." not in path
+    """Segments start with a letter or digit and hold no '/', so no path can leave /api/v1/bags."""
+    return _ROUTES.fullmatch(path) is not None
 
 
 def build_proxy(base_url: str, service_token: str | None) -> APIRouter:

@@ -24,6 +24,7 @@ from bagmcp_shared.paths import check_steps, extract, parse_field_path
 from bagmcp_shared.timebase import header_stamp_ns
 
 MANIFEST = "manifest.json"
+FORMAT_VERSION = 2  # bump when the files change; older indexes are then ignored and rebuilt
 Getter = Callable[[object], float | int | str]
 
 _XYZ = ("x", "y", "z")
@@ -222,22 +223,35 @@ def build_index(
             "count": len(series.t_ns),
             "header_rate_hz": header_rate_hz(series.header_ns),
         }
-    (directory / MANIFEST).write_text(json.dumps({"topics": manifest, "skipped": skipped}, indent=1))
+    document = {"version": FORMAT_VERSION, "topics": manifest, "skipped": skipped}
+    (directory / MANIFEST).write_text(json.dumps(document, indent=1))
     return manifest
 
 
 class ColumnIndex:
     """A built index on local disk."""
 
-    def __init__(self, directory: Path) -> None:
+    def __init__(self, directory: Path, manifest: dict[str, dict[str, object]]) -> None:
         self._dir = directory
-        self._manifest: dict[str, dict[str, object]] = json.loads((directory / MANIFEST).read_text())["topics"]
+        self._manifest = manifest
 
     @classmethod
     def load(cls, directory: Path | None) -> ColumnIndex | None:
-        if directory is None or not (directory / MANIFEST).is_file():
+        """The index in ``directory``; None when there is none or it is of another format version."""
+        if directory is None:
             return None
-        return cls(directory)
+        try:
+            document = json.loads((directory / MANIFEST).read_text())
+        except (OSError, ValueError):
+            return None
+        if not isinstance(document, dict) or document.get("version") != FORMAT_VERSION:
+            return None
+        topics = document.get("topics")
+        return cls(directory, topics) if isinstance(topics, dict) else None
+
+    def header_rates(self) -> dict[str, float]:
+        """Header-stamp rate of each indexed topic that has sane header stamps."""
+        return {t: float(r) for t, e in self._manifest.items() if isinstance(r := e.get("header_rate_hz"), int | float)}
 
     def columns(self, topic: str) -> list[str]:
         entry = self._entry(topic)

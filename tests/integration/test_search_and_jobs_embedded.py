@@ -11,6 +11,7 @@ import anyio
 import pytest
 from mcp import Client
 
+from bagmcp_bag_store.filtering import filter_bag
 from bagmcp_bag_store.search import search_messages
 from bagmcp_bag_store.wiring import folder_deps
 from tests.fixtures import scenario as sc
@@ -131,3 +132,18 @@ async def test_filter_bag_on_the_embedded_server_stores_the_new_bag_outside_the_
     cli = download_info(served.removesuffix("/mcp"), None, answer["bag_id"], tmp_path)
     assert {t["name"]: t["count"] for t in cli["topics"]} == expected
     assert sorted(p.name for p in folder.iterdir()) == before
+
+
+def test_bags_made_by_filter_bag_are_listed_again_after_a_restart(folder: Path, tmp_path: Path) -> None:
+    deps, runner = folder_deps(folder, data_dir=tmp_path / "data")
+    wait_until(lambda: all(r.status != "ingesting" for r in deps.catalog.all()), timeout_s=120, what="ingest")
+    made = filter_bag(deps, {"bag": "scenario", "include_topics": ["/cmd_vel"], "name": "cmd-only"}, lambda f, m: None)
+    runner.shutdown()
+    again, runner = folder_deps(folder, data_dir=tmp_path / "data")
+    wait_until(lambda: all(r.status != "ingesting" for r in again.catalog.all()), timeout_s=120, what="ingest")
+    record = again.catalog.get(made.bag_id)
+    assert record is not None
+    assert (record.name, record.status) == ("cmd-only", "ready")
+    topics: Any = record.summary_value("topics")
+    assert [t["count"] for t in topics] == [sc.COUNTS["/cmd_vel"]]
+    runner.shutdown()

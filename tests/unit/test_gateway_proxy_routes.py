@@ -7,7 +7,9 @@ import pytest
 from bagmcp_gateway.proxy import forwardable
 
 
-@pytest.mark.parametrize("path", ["bags", "bags/scenario", "bags/a8fbb0c0/download", "bags/run_2024-01-01.v2"])
+@pytest.mark.parametrize(
+    "path", ["bags", "bags/scenario", "bags/a8fbb0c0/download", "bags/run_2024-01-01.v2", "bags/run..1"]
+)
 def test_bag_routes_are_forwarded(path: str) -> None:
     assert forwardable(path)
 

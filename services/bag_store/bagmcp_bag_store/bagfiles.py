@@ -6,8 +6,9 @@ import fcntl
 import os
 import shutil
 import threading
+import time
 from collections.abc import Iterator
-from contextlib import contextmanager
+from contextlib import contextmanager, suppress
 from pathlib import Path
 from typing import Protocol
 
@@ -70,11 +71,13 @@ class CachedBagFiles:
     two workers never download the same bag at once and eviction skips entries being fetched.
     """
 
-    def __init__(self, store: ObjectStore, cache_dir: Path, *, max_bytes: int) -> None:
+    def __init__(self, store: ObjectStore, cache_dir: Path, *, max_bytes: int, min_idle_s: float = 60.0) -> None:
         self._store = store
         self._dir = cache_dir
         self._max_bytes = max_bytes
+        self._min_idle_s = min_idle_s
         self._guard = threading.Lock()
+        self._guard_evict = threading.Lock()
         self._locks: dict[str, threading.Lock] = {}
         cache_dir.mkdir(parents=True, exist_ok=True)
 
@@ -89,25 +92,26 @@ class CachedBagFiles:
             finally:
                 fcntl.flock(handle, fcntl.LOCK_UN)
 
-    def _ensure(self, name: str, keys: list[str]) -> Path:
+    def _ensure(self, name: str, keys: list[str], *, bag_id: str) -> Path:
+        """The complete local copy of ``keys`` under ``name``, fetched if needed, marked as just used
+        (eviction spares entries used within ``min_idle_s``, so the caller can read it now)."""
         root = self._dir / name
-        if not (root / _COMPLETE).exists():
-            with self._locked(name):
-                if not (root / _COMPLETE).exists():
-                    self._fetch_objects(keys, root)
-            self._evict(keep=name)
-        os.utime(root / _COMPLETE)
+        with self._locked(name):  # eviction takes the same lock, so it cannot remove the entry meanwhile
+            if not (root / _COMPLETE).exists():
+                self._fetch_objects(keys, root)
+            os.utime(root / _COMPLETE)
+        self._evict(keep={bag_id, f"{bag_id}-index"})
         return root
 
     def path_for(self, record: BagRecord) -> Path:
-        root = self._ensure(record.id, [f"{record.source}/{name}" for name in record.files])
+        root = self._ensure(record.id, [f"{record.source}/{name}" for name in record.files], bag_id=record.id)
         return root / record.files[0] if record.layout == "file" else root
 
     def index_dir(self, record: BagRecord) -> Path | None:
         if not record.index_files:
             return None
         keys = [f"indexes/{record.id}/columns/{n}" for n in record.index_files]
-        return self._ensure(f"{record.id}-index", keys)
+        return self._ensure(f"{record.id}-index", keys, bag_id=record.id)
 
     def publish_index(self, record: BagRecord, built: Path) -> list[str]:
         names = sorted(p.name for p in built.iterdir() if p.is_file())
@@ -116,33 +120,44 @@ class CachedBagFiles:
         return names
 
     def _fetch_objects(self, keys: list[str], root: Path) -> None:
-        """Download ``keys`` into ``root`` (named by their last part), all or nothing."""
+        """Download ``keys`` into ``root`` (named by their last part), all or nothing; the completion
+        marker is written last, after the rename."""
         partial = self._dir / f".partial-{root.name}-{os.getpid()}-{threading.get_ident()}"
         shutil.rmtree(partial, ignore_errors=True)
         partial.mkdir(parents=True)
         try:
             for key in keys:
                 self._store.download_to(key, partial / key.rsplit("/", 1)[-1])
-            (partial / _COMPLETE).touch()
             shutil.rmtree(root, ignore_errors=True)
             partial.rename(root)
+            (root / _COMPLETE).touch()
         finally:
             shutil.rmtree(partial, ignore_errors=True)
 
-    def _evict(self, *, keep: str) -> None:
-        """Remove least recently used entries (never ``keep``, never one being fetched) past the limit."""
-        entries = []
+    def _entries(self) -> list[tuple[float, int, Path]]:
+        """(last use, bytes, path) of every complete entry."""
+        found = []
         for entry in self._dir.iterdir():
-            marker = entry / _COMPLETE
-            if marker.exists():
-                size = sum(f.stat().st_size for f in entry.iterdir())
-                entries.append((marker.stat().st_mtime, size, entry))
-        total = sum(size for _, size, _ in entries)
-        for _, size, entry in sorted(entries):
-            if total <= self._max_bytes:
-                break
-            if entry.name != keep and self._try_remove(entry):
-                total -= size
+            if entry.name.startswith("."):
+                continue
+            with suppress(FileNotFoundError):
+                used = (entry / _COMPLETE).stat().st_mtime
+                found.append((used, sum(f.stat().st_size for f in entry.iterdir()), entry))
+        return found
+
+    def _evict(self, *, keep: set[str]) -> None:
+        """Remove least recently used entries past the limit; never one in ``keep``, one being fetched,
+        or one used within ``min_idle_s`` (it may still be open)."""
+        with self._guard_evict, (self._dir / ".evict.lock").open("a") as handle:
+            fcntl.flock(handle, fcntl.LOCK_EX)
+            entries = self._entries()
+            total = sum(size for _, size, _ in entries)
+            idle_before = time.time() - self._min_idle_s
+            for used, size, entry in sorted(entries):
+                if total <= self._max_bytes:
+                    break
+                if entry.name not in keep and used < idle_before and self._try_remove(entry):
+                    total -= size
 
     def _try_remove(self, entry: Path) -> bool:
         with (self._dir / f".lock-{entry.name}").open("a") as handle:

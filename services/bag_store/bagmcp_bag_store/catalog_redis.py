@@ -13,6 +13,8 @@ from bagmcp_shared.errors import StorageError
 
 _PREFIX = "bagmcp:catalog"
 # Delete a key only if it still holds the expected value (atomic compare-and-delete).
+# Add a record only if its id is new, and list its id in the same step.
+_ADD = "if redis.call('set', KEYS[1], ARGV[1], 'NX') then redis.call('sadd', KEYS[2], ARGV[2]) return 1 end return 0"
 _RELEASE = "if redis.call('get', KEYS[1]) == ARGV[1] then return redis.call('del', KEYS[1]) else return 0 end"
 
 
@@ -47,10 +49,8 @@ class RedisCatalog:
 
     def add(self, record: BagRecord) -> bool:
         with _reachable():
-            if not self._redis.set(_key(record.id), record.model_dump_json(), nx=True):
-                return False
-            self._redis.sadd(f"{_PREFIX}:ids", record.id)
-        return True
+            added = self._redis.eval(_ADD, 2, _key(record.id), f"{_PREFIX}:ids", record.model_dump_json(), record.id)
+        return bool(added)
 
     def replace(self, record: BagRecord) -> bool:
         with _reachable():

@@ -16,6 +16,7 @@ from bagmcp_bag_store.upload import sanitize_name
 from bagmcp_shared.bags.detect import sniff_file
 from bagmcp_shared.bags.ros2_dir import storage_files
 from bagmcp_shared.errors import BagmcpError
+from bagmcp_shared.storage import ObjectStore
 
 log = logging.getLogger(__name__)
 _BAG_SUFFIXES = (".bag", ".mcap", ".db3")
@@ -103,4 +104,20 @@ def catalog_folder(catalog: Catalog, root: Path, *, id_cache: Path | None = None
         except (BagmcpError, UploadError, OSError) as err:
             log.warning("skipping %s: %s", bag, err)
     known.save()
+    return ids
+
+
+def catalog_stored(catalog: Catalog, store: ObjectStore) -> list[str]:
+    """List again the bags an embedded server made earlier (filter_bag) from their registrations."""
+    ids: list[str] = []
+    for info in store.list("catalog/"):
+        try:
+            with store.open_read(info.key) as stream:
+                record = BagRecord.model_validate_json(stream.read())
+            catalog.claim_name(record.name, record.id)
+        except (BagmcpError, ValueError) as err:
+            log.warning("not listing %s again: %s", info.key, err)
+            continue
+        if catalog.add(record.model_copy(update={"status": "ingesting", "summary": None})):
+            ids.append(record.id)
     return ids

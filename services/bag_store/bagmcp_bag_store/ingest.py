@@ -14,7 +14,7 @@ from bagmcp_bag_store.errors import BagNotFoundError
 from bagmcp_bag_store.models import BagRecord
 from bagmcp_shared.bags import BagReader, open_bag
 from bagmcp_shared.bags.report import summary_dict
-from bagmcp_shared.columns import MANIFEST, build_index
+from bagmcp_shared.columns import ColumnIndex, build_index
 from bagmcp_shared.errors import BagError
 
 log = logging.getLogger(__name__)
@@ -25,17 +25,15 @@ def _definitions(bag: BagReader) -> dict[str, JsonValue]:
 
 
 def _index(deps: BagStoreDeps, record: BagRecord, bag: BagReader) -> tuple[list[str], dict[str, float]]:
-    """The bag's columnar index (reused when this process already has a complete one, else built),
+    """The bag's columnar index (reused when this process already has a usable one, else built),
     and the header-stamp rate of each indexed topic that has sane header stamps."""
-    if (existing := deps.files.index_dir(record)) is not None:
-        return record.index_files, _header_rates(json.loads((existing / MANIFEST).read_text())["topics"])
+    if (existing := ColumnIndex.load(deps.files.index_dir(record))) is not None:
+        return record.index_files, existing.header_rates()
     with tempfile.TemporaryDirectory(prefix="bagmcp-index-") as tmp:
-        manifest = build_index(bag, Path(tmp) / "columns")
-        return deps.files.publish_index(record, Path(tmp) / "columns"), _header_rates(manifest)
-
-
-def _header_rates(manifest: dict[str, dict[str, object]]) -> dict[str, float]:
-    return {t: float(r) for t, e in manifest.items() if isinstance(r := e.get("header_rate_hz"), int | float)}
+        build_index(bag, Path(tmp) / "columns")
+        built = ColumnIndex.load(Path(tmp) / "columns")
+        assert built is not None
+        return deps.files.publish_index(record, Path(tmp) / "columns"), built.header_rates()
 
 
 def _with_header_rates(summary: dict[str, JsonValue], rates: dict[str, float]) -> None:

@@ -9,7 +9,7 @@ from celery import Celery, Task
 from bagmcp_bag_store.deps import BagStoreDeps
 from bagmcp_bag_store.ingest import ingest_bag, mark_failed
 from bagmcp_bag_store.jobrun import run_job
-from bagmcp_shared.errors import StorageError
+from bagmcp_shared.errors import BagmcpError, StorageError
 
 INGEST_TASK = "bagmcp.bag_store.ingest"
 JOB_TASK = "bagmcp.bag_store.run_job"
@@ -53,6 +53,11 @@ def register_tasks(app: Celery, deps: Callable[[], BagStoreDeps]) -> None:
                 mark_failed(deps(), bag_id, f"storage was unavailable while ingesting ({err}); upload it again")
                 return "failed"
             raise self.retry(exc=err, countdown=5 * 2**self.request.retries) from err
+        except BagmcpError:
+            raise
+        except Exception as err:  # never leave a bag "ingesting" for good
+            mark_failed(deps(), bag_id, f"ingest failed ({type(err).__name__}); see the worker log")
+            raise
 
     @app.task(name=JOB_TASK, bind=True)  # type: ignore[untyped-decorator]
     def job(self: object, job_id: str) -> str:

@@ -18,7 +18,7 @@ from bagmcp_bag_store.errors import ReadOnlyError, UploadError, UploadTooLargeEr
 from bagmcp_bag_store.models import BagRecord
 from bagmcp_shared.bags import BagFormat, open_bag
 from bagmcp_shared.bags.detect import sniff_file
-from bagmcp_shared.errors import StorageError
+from bagmcp_shared.errors import BagError, StorageError
 from bagmcp_shared.storage import ObjectStore
 
 _SUFFIXES = {
@@ -84,6 +84,11 @@ def _layout(received: Received, staging: Path, filename: str, max_bytes: int) ->
     return root, [p.name for p in members], content_id(members, directory=True)
 
 
+def _record_key(bag_id: str) -> str:
+    """Where a stored bag's registration is kept next to its files (lets a catalog be rebuilt)."""
+    return f"catalog/{bag_id}.json"
+
+
 def _put_all(store: ObjectStore, root: Path, files: list[str], prefix: str) -> None:
     for name in files:
         store.put_file(f"{prefix}/{name}", root if root.is_file() else root / name)
@@ -128,6 +133,7 @@ def register_bag(
         if not deps.catalog.add(record):  # the same content was registered concurrently
             deps.catalog.release_name(name, bag_id)
             return deps.catalog.get(bag_id) or record, False
+        deps.store.put_bytes(_record_key(bag_id), record.model_dump_json().encode())
     except BaseException:
         deps.catalog.release_name(name, bag_id)
         _remove_unlisted(deps, bag_id, files)
@@ -151,9 +157,12 @@ def store_upload(
     staging = staging_root / f"staging-{uuid.uuid4().hex}"
     staging.mkdir(parents=True)
     try:
-        root, files, sha = _layout(received, staging, filename, max_bytes)
-        with open_bag(root) as bag:
-            bag.summary()
+        try:
+            root, files, sha = _layout(received, staging, filename, max_bytes)
+            with open_bag(root) as bag:
+                bag.summary()
+        except BagError as err:  # name the upload, not the server's temporary paths
+            raise type(err)(re.sub(rf"{re.escape(str(staging_root))}[^\s:]*", filename, str(err))) from err
         record, created = register_bag(deps, root, files, sha, name=sanitize_name(name or filename), tags=tags)
         if created:
             try:
@@ -172,6 +181,7 @@ def delete_bag(deps: BagStoreDeps, record: BagRecord) -> None:
     if deps.store is None or not record.in_store:
         raise ReadOnlyError(f"bag {record.name} is part of the served folder; remove it there, not through bagmcp")
     deps.catalog.delete(record.id)
+    deps.store.delete(_record_key(record.id))
     for name in record.files:
         deps.store.delete(f"{record.source}/{name}")
     deps.store.delete(f"indexes/{record.id}/summary.json")

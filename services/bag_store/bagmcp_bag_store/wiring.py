@@ -15,7 +15,7 @@ from bagmcp_bag_store.bagfiles import CachedBagFiles, FolderBagFiles
 from bagmcp_bag_store.catalog_memory import MemoryCatalog
 from bagmcp_bag_store.catalog_redis import RedisCatalog
 from bagmcp_bag_store.deps import BagStoreDeps
-from bagmcp_bag_store.folder import catalog_folder
+from bagmcp_bag_store.folder import catalog_folder, catalog_stored
 from bagmcp_bag_store.ingest import ingest_bag, mark_failed
 from bagmcp_bag_store.jobrun import run_job
 from bagmcp_bag_store.jobs import MemoryJobStore, RedisJobStore
@@ -94,7 +94,7 @@ def folder_deps(
         job_budget_s=job_budget_s,
     )
     runner.deps = deps
-    for bag_id in catalog_folder(catalog, root, id_cache=data / "content-ids.json"):
+    for bag_id in [*catalog_folder(catalog, root, id_cache=data / "content-ids.json"), *catalog_stored(catalog, store)]:
         deps.submit_ingest(bag_id)
     return deps, runner
 

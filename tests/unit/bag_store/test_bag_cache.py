@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import os
+import threading
 import time
 from pathlib import Path
 
@@ -62,3 +63,27 @@ def test_a_failed_fetch_leaves_no_partial_entry(tmp_path: Path) -> None:
     with pytest.raises(ObjectNotFoundError, match="gone"):
         cache.path_for(record)
     assert [p.name for p in (tmp_path / "cache").iterdir() if not p.name.startswith(".lock-")] == []
+
+
+def test_many_threads_fetching_and_evicting_never_fail_and_stay_near_the_limit(tmp_path: Path) -> None:
+    store = LocalStore(tmp_path / "objects")
+    records = [_record(store, f"bag{i:02d}", 200) for i in range(40)]
+    cache = CachedBagFiles(store, tmp_path / "cache", max_bytes=600, min_idle_s=0)
+    errors: list[BaseException] = []
+
+    def worker(offset: int) -> None:
+        for step in range(60):
+            try:
+                cache.path_for(records[(offset * 7 + step) % len(records)])
+            except BaseException as err:
+                errors.append(err)
+
+    threads = [threading.Thread(target=worker, args=(i,)) for i in range(8)]
+    for thread in threads:
+        thread.start()
+    for thread in threads:
+        thread.join()
+    assert errors == []
+    entries = [p for p in (tmp_path / "cache").iterdir() if (p / ".complete").exists()]
+    assert sum(f.stat().st_size for p in entries for f in p.iterdir()) <= 600 + 8 * 200  # limit + one per thread
+    assert not [p for p in (tmp_path / "cache").iterdir() if p.name.startswith(".partial-")]
