@@ -101,6 +101,7 @@ def start_stack(redis_url: str, s3: S3Endpoint, work: Path, exits: ExitStack) ->
         "BAGMCP_S3_BUCKET": bucket,
         "BAGMCP_SERVICE_TOKEN": SERVICE_TOKEN,
         "BAGMCP_JOB_BUDGET_S": str(JOB_BUDGET_S),
+        "BAGMCP_S3_READ_TIMEOUT_S": "4",
         "BAGMCP_TASK_VISIBILITY_TIMEOUT_S": str(VISIBILITY_TIMEOUT_S),
     }
     store_url = f"http://127.0.0.1:{store_port}"

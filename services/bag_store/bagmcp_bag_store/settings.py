@@ -22,6 +22,7 @@ class S3Settings:
     secret_key: str
     bucket: str
     secure: bool = False
+    read_timeout_s: float = 60.0
 
 
 @dataclass(frozen=True)
@@ -68,6 +69,7 @@ class BagStoreSettings:
             secret_key=secret,
             bucket=env.get("BAGMCP_S3_BUCKET", "bagmcp"),
             secure=env.get("BAGMCP_S3_SECURE", "false").lower() == "true",
+            read_timeout_s=float(env.get("BAGMCP_S3_READ_TIMEOUT_S", 60.0)),
         )
         return cls(
             data_dir=Path(env.get("BAGMCP_DATA_DIR", "/var/lib/bagmcp")),

@@ -109,6 +109,7 @@ def s3_store(settings: BagStoreSettings, *, wait_s: float = 60.0) -> S3Store:
         secret_key=s3.secret_key,
         bucket=s3.bucket,
         secure=s3.secure,
+        read_timeout_s=s3.read_timeout_s,
     )
     deadline = time.monotonic() + wait_s
     while True:

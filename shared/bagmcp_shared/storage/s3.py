@@ -39,10 +39,10 @@ _MISSING_CODES = frozenset({"NoSuchKey", "NoSuchObject"})
 _TRANSPORT_ERRORS = (HTTPError, MinioException)
 
 
-def _http_client() -> urllib3.PoolManager:
+def _http_client(read_timeout_s: float) -> urllib3.PoolManager:
     """A pool that gives up on an unreachable server within seconds (minio's default waits minutes)."""
     return urllib3.PoolManager(
-        timeout=Timeout(connect=CONNECT_TIMEOUT_S, read=READ_TIMEOUT_S),
+        timeout=Timeout(connect=CONNECT_TIMEOUT_S, read=read_timeout_s),
         retries=Retry(total=3, connect=1, read=1, backoff_factor=0.2, status_forcelist=(500, 502, 503, 504)),
         maxsize=10,
         cert_reqs="CERT_REQUIRED",
@@ -62,6 +62,7 @@ class S3Store(StreamPutters):
         bucket: str,
         secure: bool = False,
         region: str | None = None,
+        read_timeout_s: float = READ_TIMEOUT_S,
     ) -> None:
         self._url = f"{'https' if secure else 'http'}://{endpoint}"
         self._bucket = bucket
@@ -73,7 +74,7 @@ class S3Store(StreamPutters):
                 secret_key=secret_key,
                 secure=secure,
                 region=region,
-                http_client=_http_client(),
+                http_client=_http_client(read_timeout_s),
             )
         except ValueError as err:
             raise StorageError(f"Cannot use bucket {bucket!r} at {self._url}: {err}.") from err
