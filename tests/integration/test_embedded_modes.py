@@ -27,6 +27,8 @@ def bag_folder(scenario_bags: dict[BagKind, Path], tmp_path_factory: pytest.Temp
     for path in scenario_bags.values():
         (shutil.copytree if path.is_dir() else shutil.copy)(path, folder / path.name)
     (folder / "notes.txt").write_text("not a bag")
+    (folder / "empty.bag").write_bytes(b"")
+    (folder / "fake.mcap").write_text("just text pretending to be a recording")
     return folder
 
 
@@ -77,7 +79,12 @@ async def test_stdio_answers_the_first_tools_for_three_formats(bag_folder: Path,
 
 def test_serve_lists_bags_over_rest_and_refuses_uploads_to_a_read_only_folder(served: str) -> None:
     listing = httpx.get(f"{served}/api/v1/bags").json()
-    assert sorted(b["name"] for b in listing["bags"]) == NAMES
+    status = {b["name"]: (b["status"], b["error"]) for b in listing["bags"]}
+    assert sorted(n for n, (s, _) in status.items() if s == "ready") == NAMES
+    assert status["empty"] == ("failed", "empty.bag: the file is empty (0 bytes)")
+    assert status["fake"][0] == "failed"
+    assert "not a ROS bag" in status["fake"][1]
+    assert "notes" not in status
     refused = httpx.post(f"{served}/api/v1/bags", params={"filename": "x.bag"}, content=b"#ROSBAG V2.0\n")
     assert refused.status_code == 405
     assert refused.json()["error"]["code"] == "read_only"

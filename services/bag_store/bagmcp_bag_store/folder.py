@@ -15,7 +15,7 @@ from bagmcp_bag_store.models import BagRecord
 from bagmcp_bag_store.upload import sanitize_name
 from bagmcp_shared.bags.detect import sniff_file
 from bagmcp_shared.bags.ros2_dir import storage_files
-from bagmcp_shared.errors import BagmcpError
+from bagmcp_shared.errors import BagError, BagmcpError
 from bagmcp_shared.storage import ObjectStore
 
 log = logging.getLogger(__name__)
@@ -34,7 +34,7 @@ def find_bags(root: Path) -> list[Path]:
             continue
         if entry.is_dir():
             found.extend([entry] if _is_bag_dir(entry) else find_bags(entry))
-        elif entry.suffix in _BAG_SUFFIXES and entry.stat().st_size > 0:
+        elif entry.suffix in _BAG_SUFFIXES:
             found.append(entry)
     return found
 
@@ -62,13 +62,22 @@ class IdCache:
                 self._path.write_text(json.dumps(self._known))
 
 
-def _record(root: Path, bag: Path, ids: IdCache) -> BagRecord:
-    if bag.is_dir():
-        files, _, _ = storage_files(bag)
-        members = sorted({*files, *(p for p in bag.iterdir() if p.name == "metadata.yaml")})
-    else:
+def _members(bag: Path) -> tuple[list[Path], str | None]:
+    """The files a bag consists of, and why it cannot be read (None when it looks readable)."""
+    try:
+        if bag.is_dir():
+            files, _, _ = storage_files(bag)
+            return sorted({*files, *(p for p in bag.iterdir() if p.name == "metadata.yaml")}), None
         sniff_file(bag)
-        members = [bag]
+    except BagError as err:
+        everything = sorted(p for p in bag.iterdir() if p.is_file()) if bag.is_dir() else [bag]
+        return everything, str(err).replace(str(bag), bag.name)
+    return [bag], None
+
+
+def _record(root: Path, bag: Path, ids: IdCache) -> BagRecord:
+    """A catalog record; a file that is not a readable bag is listed as failed, with the reason."""
+    members, problem = _members(bag)
     sha = ids.content_id(members, directory=bag.is_dir())
     return BagRecord(
         id=sha[:16],
@@ -80,6 +89,8 @@ def _record(root: Path, bag: Path, ids: IdCache) -> BagRecord:
         sha256=sha,
         size_bytes=sum(m.stat().st_size for m in members),
         created_at=time.time(),
+        status="failed" if problem else "ingesting",
+        error=problem,
     )
 
 
@@ -100,7 +111,8 @@ def catalog_folder(catalog: Catalog, root: Path, *, id_cache: Path | None = None
                 except NameTakenError:
                     name = f"{record.name}-{n}"
             catalog.add(record.model_copy(update={"name": name}))
-            ids.append(record.id)
+            if record.status == "ingesting":
+                ids.append(record.id)
         except (BagmcpError, UploadError, OSError) as err:
             log.warning("skipping %s: %s", bag, err)
     known.save()

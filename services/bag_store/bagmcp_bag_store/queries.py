@@ -45,6 +45,7 @@ def _brief(record: BagRecord) -> BagBrief:
         id=record.id,
         name=record.name,
         status=record.status,
+        error=record.error,
         format=str(fmt) if fmt else None,
         size_bytes=record.size_bytes,
         duration_s=float(duration) if isinstance(duration, int | float) else None,

@@ -18,9 +18,12 @@ class Instant(BaseModel):
 
 
 class BagBrief(BaseModel):
+    """``error`` says why a bag with status "failed" cannot be used."""
+
     id: str
     name: str
     status: str
+    error: str | None = None
     format: str | None
     size_bytes: int
     duration_s: float | None
