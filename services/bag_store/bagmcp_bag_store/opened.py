@@ -78,10 +78,11 @@ def ready_record(deps: BagStoreDeps, bag: str) -> BagRecord:
 
 
 @contextmanager
-def opened(deps: BagStoreDeps, bag: str) -> Iterator[OpenBag]:
+def opened(deps: BagStoreDeps, bag: str, *, need_messages: bool = True) -> Iterator[OpenBag]:
+    """A ready bag, open for reading. Questions about time need messages; questions about types do not."""
     record = ready_record(deps, bag)
     start, end = _epoch_ns(record.summary_value("start")), _epoch_ns(record.summary_value("end"))
-    if start is None or end is None:
+    if (start is None or end is None) and need_messages:
         raise TimeError(f"bag {record.name} has no messages")
     with open_bag(deps.files.path_for(record)) as reader:
-        yield OpenBag(record, reader, start, end)
+        yield OpenBag(record, reader, start or 0, end or 0)

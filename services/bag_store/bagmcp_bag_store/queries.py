@@ -107,7 +107,7 @@ def bag_info(deps: BagStoreDeps, bag: str) -> BagInfo:
 
 
 def describe_topic(deps: BagStoreDeps, bag: str, topic: str) -> TopicDescription:
-    with opened(deps, bag) as ob:
+    with opened(deps, bag, need_messages=False) as ob:
         conn = ob.reader.topic_connections(topic)[0]
         store = ob.reader.decoder.typestore(conn.msgtype)
         paths = field_paths(store, conn.msgtype)

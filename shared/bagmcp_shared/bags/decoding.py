@@ -8,6 +8,7 @@ from __future__ import annotations
 
 from collections.abc import Iterable
 
+from rosbags.interfaces import Nodetype
 from rosbags.typesys import Stores, get_types_from_idl, get_types_from_msg, get_typestore
 from rosbags.typesys.msg import normalize_msgtype
 from rosbags.typesys.store import Typestore
@@ -29,6 +30,24 @@ def _types_from_definition(conn: Connection) -> dict[str, object]:
             return typs
         return dict(get_types_from_idl(text))
     return dict(get_types_from_msg(conn.definition, conn.msgtype))
+
+
+def _referenced(store: Typestore, root: str) -> list[str]:
+    """Every message type ``root`` uses, directly or through fields, that the store can see so far."""
+    seen: list[str] = []
+    pending = [root]
+    while pending:
+        name = pending.pop()
+        if name in seen:
+            continue
+        seen.append(name)
+        if name not in store.fielddefs:
+            continue
+        for _field, (kind, detail) in store.fielddefs[name][1]:
+            inner = detail[0] if kind in (Nodetype.ARRAY, Nodetype.SEQUENCE) else (kind, detail)
+            if inner[0] == Nodetype.NAME:
+                pending.append(str(inner[1]))
+    return seen[1:]
 
 
 class Decoder:
@@ -81,12 +100,27 @@ class Decoder:
             first_line = str(err).strip().splitlines()[0] if str(err).strip() else type(err).__name__
             self._problems[conn.msgtype] = f"its stored definition could not be parsed ({first_line})"
             return
+        if missing := self._complete(store, conn):
+            self._problems[conn.msgtype] = f"its stored definition uses {missing}, which it does not define"
+            return
         if conn.encoding is Encoding.ROS1 and conn.digest:
             have = store.generate_msgdef(conn.msgtype)[1]
             if have != conn.digest:
                 self._problems[conn.msgtype] = f"its stored definition does not match its md5 ({have} != {conn.digest})"
                 return
         self._stores[conn.msgtype] = store
+
+    @staticmethod
+    def _complete(store: Typestore, conn: Connection) -> str | None:
+        """Fill in types a stored definition uses but leaves out (recorders sometimes do) from the
+        standard ROS types; returns a type that stays missing, if any."""
+        standard = get_typestore(Stores.ROS1_NOETIC if conn.encoding is Encoding.ROS1 else Stores.LATEST)
+        while missing := [n for n in _referenced(store, conn.msgtype) if n not in store.fielddefs]:
+            name = missing[0]
+            if name not in standard.fielddefs:
+                return name
+            store.register({name: standard.fielddefs[name]})
+        return None
 
     def _add_from_standard_types(self, conn: Connection) -> None:
         store = get_typestore(Stores.ROS1_NOETIC if conn.encoding is Encoding.ROS1 else Stores.LATEST)

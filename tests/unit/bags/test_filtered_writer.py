@@ -334,7 +334,7 @@ def test_ros2_types_without_a_usable_definition_are_still_copied_byte_for_byte(
     with open_bag(result.path) as bag:
         payloads = [(r.connection.topic, r.log_time_ns, r.data) for r in bag.messages()]
         definitions = {c.topic: c.definition for c in bag.connections}
-        assert sorted(bag.decoder.problems) == ["acme_msgs/msg/Thing"]
+        assert sorted(bag.decoder.problems) == ["acme_msgs/msg/Holder", "acme_msgs/msg/Thing"]
     assert payloads == [
         ("/unknown", sc.START_NS, UNKNOWN_PAYLOAD),
         ("/holder", sc.START_NS + 1, HOLDER_PAYLOAD),
@@ -346,7 +346,7 @@ def test_ros2_types_without_a_usable_definition_cannot_become_ros1(tmp_path: Pat
     source = _ros2_bag_with_unusable_definitions(tmp_path)
     with pytest.raises(FilterError, match=r"/unknown \(acme_msgs/msg/Thing\) cannot be converted to ROS 1"):
         _filter(source, tmp_path, FilterSpec(include_topics=("/unknown",)), OutputFormat.ROS1)
-    with pytest.raises(FilterError, match="uses acme_msgs/msg/Part, which is undefined"):
+    with pytest.raises(FilterError, match="uses acme_msgs/msg/Part, which it does not define"):
         _filter(source, tmp_path, FilterSpec(include_topics=("/holder",)), OutputFormat.ROS1)
     assert sorted(p.name for p in tmp_path.iterdir()) == ["unusable"]
 
