@@ -53,7 +53,10 @@ def test_talker_bags_read_all_twenty_messages_from_storage_not_metadata(corpus: 
     for relpath in ("ros2_db3/rosbag2_talker", "ros2_mcap/rosbag2_talker"):
         with open_bag(corpus / relpath) as bag:
             texts = [bag.decode(raw).data for raw in bag.messages(["/topic"])]  # type: ignore[attr-defined]
+            logs = [bag.decode(raw).msg for raw in bag.messages(["/rosout"])]  # type: ignore[attr-defined]
         assert texts == [f"Hello, world! {i}" for i in range(10)]
+        # the sqlite3 bag stores a stub definition of rcl_interfaces/msg/Log; the standard one fits
+        assert logs == [f"Publishing: 'Hello, world! {i}'" for i in range(10)]
 
 
 def test_undecodable_types_are_named_in_the_notes_while_counts_stay_available(corpus: Path) -> None:

@@ -6,6 +6,7 @@ that type undecodable (with a reason) instead of failing the whole bag.
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Iterable
 
 from rosbags.interfaces import Nodetype
@@ -50,6 +51,18 @@ def _referenced(store: Typestore, root: str) -> list[str]:
     return seen[1:]
 
 
+@functools.cache
+def standard_store(encoding: Encoding) -> Typestore:
+    """The standard ROS types of a family (Noetic for ROS 1, the latest distribution for ROS 2)."""
+    return get_typestore(Stores.ROS1_NOETIC if encoding is Encoding.ROS1 else Stores.LATEST)
+
+
+def _deserialize(store: Typestore, raw: RawMessage) -> object:
+    if raw.connection.encoding is Encoding.ROS1:
+        return store.deserialize_ros1(raw.data, raw.connection.msgtype)
+    return store.deserialize_cdr(raw.data, raw.connection.msgtype)
+
+
 class Decoder:
     """Decodes messages of a bag's connections; knows which types it can decode and why not."""
 
@@ -74,17 +87,34 @@ class Decoder:
         return store
 
     def decode(self, raw: RawMessage) -> object:
-        """Deserialize one raw message."""
+        """Deserialize one raw message.
+
+        When a stored definition does not fit the data (some recorders store stubs) and the type is a
+        standard ROS type that does fit, the standard definition is used from then on.
+        """
         conn = raw.connection
-        store = self.typestore(conn.msgtype)
         try:
-            if conn.encoding is Encoding.ROS1:
-                return store.deserialize_ros1(raw.data, conn.msgtype)
-            return store.deserialize_cdr(raw.data, conn.msgtype)
+            return _deserialize(self.typestore(conn.msgtype), raw)
+        except DecodeError:
+            raise
         except Exception as err:  # rosbags raises SerdeError, struct.error, IndexError...
+            if (message := self._with_standard_type(raw)) is not None:
+                return message
             raise DecodeError(
                 f"message of {conn.topic} ({conn.msgtype}) at {raw.log_time_ns} ns could not be decoded: {err}"
             ) from err
+
+    def _with_standard_type(self, raw: RawMessage) -> object | None:
+        conn = raw.connection
+        standard = standard_store(conn.encoding)
+        if self._stores.get(conn.msgtype) is standard or conn.msgtype not in standard.fielddefs:
+            return None
+        try:
+            message = _deserialize(standard, raw)
+        except Exception:  # the standard type does not fit either
+            return None
+        self._stores[conn.msgtype] = standard
+        return message
 
     def _add(self, conn: Connection) -> None:
         if conn.definition.strip():
@@ -114,7 +144,7 @@ class Decoder:
     def _complete(store: Typestore, conn: Connection) -> str | None:
         """Fill in types a stored definition uses but leaves out (recorders sometimes do) from the
         standard ROS types; returns a type that stays missing, if any."""
-        standard = get_typestore(Stores.ROS1_NOETIC if conn.encoding is Encoding.ROS1 else Stores.LATEST)
+        standard = standard_store(conn.encoding)
         while missing := [n for n in _referenced(store, conn.msgtype) if n not in store.fielddefs]:
             name = missing[0]
             if name not in standard.fielddefs:
@@ -123,7 +153,7 @@ class Decoder:
         return None
 
     def _add_from_standard_types(self, conn: Connection) -> None:
-        store = get_typestore(Stores.ROS1_NOETIC if conn.encoding is Encoding.ROS1 else Stores.LATEST)
+        store = standard_store(conn.encoding)
         msgtype = normalize_msgtype(conn.msgtype)
         if msgtype not in store.fielddefs:
             self._problems[conn.msgtype] = "the bag stores no definition and it is not a standard ROS type"
