@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import os
 import signal
+import socket
 import subprocess
 from pathlib import Path
 
@@ -37,12 +38,29 @@ def _session_members(session: int) -> list[int]:
     return members
 
 
+def _port_free(port: int) -> bool:
+    with socket.socket() as probe:
+        try:
+            probe.bind(("127.0.0.1", port))
+        except OSError:
+            return False
+    return True
+
+
+def _s3_base_port(taken: set[int]) -> int:
+    """An S3_PORT for deploy/stack/s3.sh, which also uses the next 3 ports and those + 10000."""
+    for _ in range(200):
+        base = free_port()
+        wanted = [base + i for i in range(4)] + [base + 1 + 10000 + i for i in range(4)]
+        if base + 3 + 10000 < 65536 and not taken & set(wanted) and all(_port_free(p) for p in wanted):
+            return base
+    raise RuntimeError("no block of free ports for the stack's S3 server")
+
+
 def test_make_stack_serves_uploads_and_stops_on_ctrl_c(scenario_bags: dict[BagKind, Path], tmp_path: Path) -> None:
     stack_dir = tmp_path / "stack"
     ports = {"GATEWAY_PORT": free_port(), "BAG_STORE_PORT": free_port(), "REDIS_PORT": free_port()}
-    s3_port = free_port()
-    while any(p in range(s3_port, s3_port + 4) for p in ports.values()):
-        s3_port = free_port()
+    s3_port = _s3_base_port(set(ports.values()))
     env = {
         **os.environ,
         **{k: str(v) for k, v in ports.items()},
