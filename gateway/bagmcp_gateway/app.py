@@ -15,6 +15,7 @@ from pydantic import AnyHttpUrl
 
 from bagmcp_gateway.aggregator import Routing, build_gateway_server, collect_tools
 from bagmcp_gateway.auth import CLIENT_SCOPE, ApiTokenVerifier, rest_auth
+from bagmcp_gateway.connections import Connections
 from bagmcp_gateway.upstreams import GatewayConfigError, Upstream
 
 
@@ -31,7 +32,8 @@ class GatewayConfig:
 def create_app(config: GatewayConfig, *, rest: APIRouter, on_shutdown: Callable[[], None] | None = None) -> FastAPI:
     """The gateway app. ``rest`` serves /api/v1 (a proxy in team mode, the bag-store's routes embedded)."""
     verifier = ApiTokenVerifier(config.token_hashes) if config.token_hashes else None
-    server = build_gateway_server(config.upstreams)
+    connections = Connections(config.upstreams)
+    server = build_gateway_server(config.upstreams, connections=connections)
     auth = None
     if verifier is not None:
         auth = AuthSettings(
@@ -52,8 +54,11 @@ def create_app(config: GatewayConfig, *, rest: APIRouter, on_shutdown: Callable[
 
     @contextlib.asynccontextmanager
     async def lifespan(_app: FastAPI) -> AsyncIterator[None]:
-        async with server.session_manager.run():
-            yield
+        async with anyio.create_task_group() as group:
+            await group.start(connections.run)
+            async with server.session_manager.run():
+                yield
+            group.cancel_scope.cancel()
         if on_shutdown is not None:
             on_shutdown()
 

@@ -3,13 +3,20 @@ collisions need a prefix, progress is relayed. Upstreams are real MCPServers, in
 
 from __future__ import annotations
 
+import shutil
+from pathlib import Path
+
+import anyio
 import pytest
 from mcp import Client
 from mcp.server.mcpserver import Context, MCPServer
 
 from bagmcp_gateway.aggregator import build_gateway_server
+from bagmcp_gateway.connections import Connections
 from bagmcp_gateway.upstreams import GatewayConfigError, Upstream
+from tests.fixtures.bagfactory import BagKind
 from tests.fixtures.mcp_client import call, call_error, text_of
+from tests.fixtures.processes import BIN, http_ok, service
 from tests.fixtures.servers import free_port
 
 pytestmark = pytest.mark.anyio
@@ -86,3 +93,41 @@ async def test_progress_notifications_of_an_upstream_reach_the_client() -> None:
 def test_upstream_names_are_validated() -> None:
     with pytest.raises(GatewayConfigError):
         Upstream(name="Bad_Name", url="http://x/mcp")
+
+
+async def test_a_restarted_upstream_is_used_again_without_restarting_the_gateway(
+    scenario_bags: dict[BagKind, Path], tmp_path: Path
+) -> None:
+    folder = tmp_path / "bags"
+    folder.mkdir()
+    shutil.copy(scenario_bags["ros1"], folder)
+    port = free_port()
+    command = [str(BIN / "bagmcp"), "serve", "--bags", str(folder), "--port", str(port), "--data", str(tmp_path / "d")]
+    upstream = Upstream(name="bag-store", url=f"http://127.0.0.1:{port}/mcp", timeout_s=3)
+    connections = Connections([upstream], retry_s=0.2)
+    gateway = build_gateway_server([upstream], connections=connections)
+    async with anyio.create_task_group() as group, Client(gateway, cache=None) as client:
+        with service(
+            "upstream-1", command, env={}, log_dir=tmp_path, ready=http_ok(f"http://127.0.0.1:{port}/healthz")
+        ):
+            await group.start(connections.run)
+            with anyio.fail_after(10):
+                while not connections.connected("bag-store"):
+                    await anyio.sleep(0.05)
+            assert (await call(client, "list_bags"))["total"] == 1
+        down = await call_error(client, "list_bags")
+        assert "unavailable" in down
+        with anyio.fail_after(10):
+            while connections.connected("bag-store"):  # the failed call made the gateway drop the client
+                await anyio.sleep(0.05)
+        with service(
+            "upstream-2", command, env={}, log_dir=tmp_path, ready=http_ok(f"http://127.0.0.1:{port}/healthz")
+        ):
+            with anyio.fail_after(20):
+                while (await client.call_tool("list_bags", {})).is_error:
+                    await anyio.sleep(0.2)
+            with anyio.fail_after(10):
+                while not connections.connected("bag-store"):
+                    await anyio.sleep(0.05)
+            assert (await call(client, "list_bags"))["total"] == 1
+        group.cancel_scope.cancel()
