@@ -64,32 +64,14 @@ async def check_message_at_time(client: Client, name: str) -> None:
 
 
 async def check_messages_in_range(client: Client, name: str) -> None:
-    page = await call(
-        client,
-        "get_messages_in_range",
-        bag=name,
-        topic="/cmd_vel",
-        start=2.0,
-        end=3.0,
-        fields=["linear.x"],
-        max_messages=4,
-    )
+    window = {"bag": name, "topic": "/cmd_vel", "start": 2.0, "end": 3.0, "fields": ["linear.x"]}
+    page = await call(client, "get_messages_in_range", **window, max_messages=4)
     assert page["total"] == 11
     assert page["returned"] == 4
     assert page["truncated"] is True
     speeds = [m["data"]["linear.x"] for m in page["messages"]]
     assert speeds == pytest.approx([sc.cmd_speed_at(2.0)] * 4)
-    following = await call(
-        client,
-        "get_messages_in_range",
-        bag=name,
-        topic="/cmd_vel",
-        start=2.0,
-        end=3.0,
-        fields=["linear.x"],
-        max_messages=20,
-        cursor=page["next_cursor"],
-    )
+    following = await call(client, "get_messages_in_range", **window, max_messages=20, cursor=page["next_cursor"])
     offsets = [m["time"]["offset_s"] for m in following["messages"]]
     assert offsets == pytest.approx([2.4 + i / 10 for i in range(7)])
     assert following["truncated"] is False

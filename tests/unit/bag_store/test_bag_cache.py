@@ -13,21 +13,12 @@ from bagmcp_bag_store.bagfiles import CachedBagFiles
 from bagmcp_bag_store.models import BagRecord
 from bagmcp_shared.errors import ObjectNotFoundError
 from bagmcp_shared.storage import LocalStore
+from tests.fixtures.records import stored_record
 
 
 def _record(store: LocalStore, bag_id: str, size: int) -> BagRecord:
     store.put_bytes(f"bags/{bag_id}/{bag_id}.bag", bytes([len(bag_id)]) * size)
-    return BagRecord(
-        id=bag_id,
-        name=bag_id,
-        layout="file",
-        files=[f"{bag_id}.bag"],
-        source=f"bags/{bag_id}",
-        in_store=True,
-        sha256="0" * 64,
-        size_bytes=size,
-        created_at=time.time(),
-    )
+    return stored_record(bag_id, bag_id, size=size)
 
 
 def test_a_cached_bag_is_fetched_once_and_then_served_locally(tmp_path: Path) -> None:

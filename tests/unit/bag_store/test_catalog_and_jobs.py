@@ -2,29 +2,13 @@
 
 from __future__ import annotations
 
-import time
-
 import pytest
 
 from bagmcp_bag_store.catalog import resolve_bag
 from bagmcp_bag_store.catalog_memory import MemoryCatalog
 from bagmcp_bag_store.errors import AmbiguousBagError, BagNotFoundError, NameTakenError
 from bagmcp_bag_store.jobs import Job, JobCancelledError, MemoryJobStore, ProgressReporter, update
-from bagmcp_bag_store.models import BagRecord
-
-
-def _record(bag_id: str, name: str) -> BagRecord:
-    return BagRecord(
-        id=bag_id,
-        name=name,
-        layout="file",
-        files=[f"{name}.bag"],
-        source=f"bags/{bag_id}",
-        in_store=True,
-        sha256="0" * 64,
-        size_bytes=1,
-        created_at=time.time(),
-    )
+from tests.fixtures.records import stored_record
 
 
 @pytest.fixture
@@ -32,7 +16,7 @@ def catalog() -> MemoryCatalog:
     catalog = MemoryCatalog()
     for bag_id, name in (("a1b2c3", "husky_outdoor"), ("d4e5f6", "husky_indoor"), ("0789ab", "jackal")):
         catalog.claim_name(name, bag_id)
-        assert catalog.add(_record(bag_id, name))
+        assert catalog.add(stored_record(bag_id, name))
     return catalog
 
 
@@ -56,9 +40,9 @@ def test_an_unknown_bag_suggests_close_names(catalog: MemoryCatalog) -> None:
 def test_names_are_unique_and_adds_and_replaces_are_conditional(catalog: MemoryCatalog) -> None:
     with pytest.raises(NameTakenError):
         catalog.claim_name("jackal", "ffff")
-    assert not catalog.add(_record("0789ab", "jackal"))
+    assert not catalog.add(stored_record("0789ab", "jackal"))
     catalog.delete("0789ab")
-    assert not catalog.replace(_record("0789ab", "jackal"))  # a deleted bag is not brought back
+    assert not catalog.replace(stored_record("0789ab", "jackal"))  # a deleted bag is not brought back
     catalog.claim_name("jackal", "ffff")  # its name is free again
 
 
