@@ -18,9 +18,15 @@ from bagmcp_shared.errors import TimeError, TopicNotFoundError
 from bagmcp_shared.timebase import Stamp, TimeInput, iso_from_ns, parse_time
 
 
-def _epoch_ns(value: JsonValue) -> int | None:
+def epoch_ns(value: JsonValue) -> int | None:
+    """The ``epoch_ns`` of an instant as ingest stored it (``{"iso", "epoch_s", "epoch_ns"}``)."""
     stamp = value.get("epoch_ns") if isinstance(value, dict) else None
     return stamp if isinstance(stamp, int) else None
+
+
+def instant(stamp_ns: int, *, start_ns: int) -> Instant:
+    stamp = Stamp.of(stamp_ns, start_ns=start_ns)
+    return Instant(offset_s=stamp.offset_s, stamp_s=stamp.stamp_s, iso=stamp.iso)
 
 
 def catalog_topics(record: BagRecord) -> dict[str, TopicSummary]:
@@ -31,7 +37,7 @@ def catalog_topics(record: BagRecord) -> dict[str, TopicSummary]:
         if isinstance(t, dict) and isinstance(t.get("count"), int):
             name = str(t["name"])
             found[name] = TopicSummary(
-                name, str(t["type"]), int(str(t["count"])), _epoch_ns(t.get("first")), _epoch_ns(t.get("last"))
+                name, str(t["type"]), int(str(t["count"])), epoch_ns(t.get("first")), epoch_ns(t.get("last"))
             )
     return found
 
@@ -53,8 +59,7 @@ class OpenBag:
         return found
 
     def instant(self, stamp_ns: int) -> Instant:
-        stamp = Stamp.of(stamp_ns, start_ns=self.start_ns)
-        return Instant(offset_s=stamp.offset_s, stamp_s=stamp.stamp_s, iso=stamp.iso)
+        return instant(stamp_ns, start_ns=self.start_ns)
 
     def time(self, value: TimeInput, *, what: str = "time") -> int:
         """Parse a caller's time and check that it lies inside the bag."""
@@ -81,7 +86,7 @@ def ready_record(deps: BagStoreDeps, bag: str) -> BagRecord:
 def opened(deps: BagStoreDeps, bag: str, *, need_messages: bool = True) -> Iterator[OpenBag]:
     """A ready bag, open for reading. Questions about time need messages; questions about types do not."""
     record = ready_record(deps, bag)
-    start, end = _epoch_ns(record.summary_value("start")), _epoch_ns(record.summary_value("end"))
+    start, end = epoch_ns(record.summary_value("start")), epoch_ns(record.summary_value("end"))
     if (start is None or end is None) and need_messages:
         raise TimeError(f"bag {record.name} has no messages")
     with open_bag(deps.files.path_for(record)) as reader:

@@ -8,7 +8,7 @@ from bagmcp_bag_store.deps import BagStoreDeps
 from bagmcp_bag_store.errors import ArgumentError
 from bagmcp_bag_store.messages import message_out
 from bagmcp_bag_store.models import BagRecord
-from bagmcp_bag_store.opened import opened, ready_record
+from bagmcp_bag_store.opened import epoch_ns, instant, opened, ready_record
 from bagmcp_bag_store.results import (
     BagBrief,
     BagInfo,
@@ -25,17 +25,12 @@ MAX_FIELDS = 120
 
 
 def _instant(value: JsonValue, start_ns: int) -> Instant | None:
-    if not isinstance(value, dict) or not isinstance(value.get("epoch_ns"), int):
-        return None
-    stamp_ns = value["epoch_ns"]
-    assert isinstance(stamp_ns, int)
-    return Instant(offset_s=round((stamp_ns - start_ns) / 1e9, 9), stamp_s=stamp_ns / 1e9, iso=str(value.get("iso")))
+    stamp_ns = epoch_ns(value)
+    return instant(stamp_ns, start_ns=start_ns) if stamp_ns is not None else None
 
 
 def _start_ns(record: BagRecord) -> int:
-    start = record.summary_value("start")
-    stamp = start.get("epoch_ns") if isinstance(start, dict) else None
-    return stamp if isinstance(stamp, int) else 0
+    return epoch_ns(record.summary_value("start")) or 0
 
 
 def _brief(record: BagRecord) -> BagBrief:

@@ -7,7 +7,10 @@ The storage file is the truth: topics, counts and definitions come from its tabl
 from __future__ import annotations
 
 import sqlite3
+import threading
+from collections import OrderedDict
 from collections.abc import Collection, Iterator, Sequence
+from contextlib import suppress
 from pathlib import Path
 
 from bagmcp_shared.bags.models import Connection, Encoding, RawMessage
@@ -42,6 +45,43 @@ def _definitions(db: sqlite3.Connection) -> dict[str, tuple[str, str]]:
     }
 
 
+TopicStats = dict[int, tuple[int, int, int]]  # topic id -> (count, first ns, last ns)
+_STATS: OrderedDict[tuple[object, ...], TopicStats] = OrderedDict()
+_STATS_LOCK = threading.Lock()
+_STATS_KEPT = 64
+
+
+def _file_key(path: Path) -> tuple[object, ...]:
+    """Identity of a storage file's content: path, size and mtime, with its WAL file if any."""
+    parts: list[object] = [str(path.resolve())]
+    for member in (path, path.with_name(path.name + "-wal")):
+        with suppress(FileNotFoundError):
+            info = member.stat()
+            parts += [info.st_size, info.st_mtime_ns]
+    return tuple(parts)
+
+
+def topic_stats(db: sqlite3.Connection, path: Path) -> TopicStats:
+    """Per-topic count and first/last timestamps. The table has no topic index, so this scans every
+    row: done once per file content and process, not on every open."""
+    key = _file_key(path)
+    with _STATS_LOCK:
+        if (known := _STATS.get(key)) is not None:
+            _STATS.move_to_end(key)
+            return known
+    stats = {
+        int(tid): (int(n), int(lo), int(hi))
+        for tid, n, lo, hi in db.execute(
+            "SELECT topic_id, COUNT(*), MIN(timestamp), MAX(timestamp) FROM messages GROUP BY topic_id"
+        )
+    }
+    with _STATS_LOCK:
+        _STATS[key] = stats
+        while len(_STATS) > _STATS_KEPT:
+            _STATS.popitem(last=False)
+    return stats
+
+
 class Sqlite3Source:
     """One ``.db3`` file."""
 
@@ -56,12 +96,7 @@ class Sqlite3Source:
 
     def _read_topics(self) -> tuple[list[Connection], dict[int, tuple[int, int]]]:
         db = self._db
-        stats = {
-            int(tid): (int(n), int(lo), int(hi))
-            for tid, n, lo, hi in db.execute(
-                "SELECT topic_id, COUNT(*), MIN(timestamp), MAX(timestamp) FROM messages GROUP BY topic_id"
-            )
-        }
+        stats = topic_stats(db, self._path)
         has_qos = "offered_qos_profiles" in _columns(db, "topics")
         qos_col = "offered_qos_profiles" if has_qos else "''"
         defs = _definitions(db)

@@ -2,14 +2,17 @@
 
 from __future__ import annotations
 
+import sqlite3
 from pathlib import Path
 
 import pytest
 
 from bagmcp_shared.bags import open_bag
+from bagmcp_shared.bags.sqlite3_source import topic_stats
 from bagmcp_shared.errors import TopicNotFoundError
 from bagmcp_shared.paths import extract, parse_field_path
 from tests.fixtures import scenario as sc
+from tests.fixtures.bagfactory import BagKind
 
 
 def test_summary_has_every_topic_with_its_count_and_rate(scenario_bag: Path) -> None:
@@ -67,3 +70,16 @@ def test_an_unknown_topic_lists_the_topics_that_exist(scenario_bag: Path) -> Non
 def test_topics_match_with_or_without_the_leading_slash(scenario_bag: Path) -> None:
     with open_bag(scenario_bag) as bag:
         assert len(list(bag.messages(["scan"]))) == sc.COUNTS["/scan"]
+
+
+def test_sqlite3_topic_statistics_are_scanned_once_per_file_content(scenario_bags: dict[BagKind, Path]) -> None:
+    storage = next(scenario_bags["ros2-sqlite3"].glob("*.db3"))
+    db = sqlite3.connect(f"{storage.resolve().as_uri()}?mode=ro", uri=True)
+    scans: list[str] = []
+    db.set_trace_callback(lambda statement: scans.append(statement) if "GROUP BY" in statement else None)
+    first = topic_stats(db, storage)
+    again = topic_stats(db, storage)
+    db.close()
+    assert again is first
+    assert len(scans) <= 1  # zero when an earlier test already opened this file
+    assert sum(count for count, _, _ in first.values()) == sum(sc.COUNTS.values())
