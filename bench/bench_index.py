@@ -19,14 +19,16 @@ from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
-from pydantic import JsonValue
 from rosbags.rosbag2 import StoragePlugin, Writer
 from rosbags.typesys import Stores, get_typestore
 
-from bagmcp_bag_store.search import search_messages
-from bagmcp_bag_store.wiring import folder_deps
+from bagmcp_bag_store.embedded import start_embedded
+from bagmcp_bag_store.job_kinds import SearchParams
+from bagmcp_bag_store.query.search import search_messages
 from bagmcp_shared.bags import open_bag
-from bagmcp_shared.columns import ColumnIndex, build_index, read_series
+from bagmcp_shared.index import ColumnIndex, build_index, read_series
+from bagmcp_shared.jobs import Unreported
+from bagmcp_shared.resources import embedded_resources
 
 COLUMNS = [
     "pose.pose.position.x",
@@ -109,18 +111,21 @@ def median_s(run: Callable[[], object], repeat: int) -> float:
 def time_search_tool(folder: Path, name: str, repeat: int) -> tuple[float, float]:
     """The whole search_messages path (catalog, open, index or decode, answer) with and without the index."""
     with tempfile.TemporaryDirectory() as data:
-        deps, runner = folder_deps(folder, data_dir=Path(data))
-        while any(r.status == "ingesting" for r in deps.catalog.all()):
+        embedded = embedded_resources(folder, Path(data))
+        start_embedded(embedded)
+        access = embedded.resources.access
+        while any(r.status == "ingesting" for r in access.catalog.all()):
             time.sleep(0.2)
-        params: dict[str, JsonValue] = {
-            "bag": name,
-            "topic": "/odom",
-            "condition": "near_position",
-            "value": {"x": 1.0, "y": 0.0, "radius": 0.2},
-        }
-        with_index = median_s(lambda: search_messages(deps, params, lambda f, m: None, use_index=True), repeat)
-        without = median_s(lambda: search_messages(deps, params, lambda f, m: None, use_index=False), repeat)
-        runner.shutdown()
+        params = SearchParams(
+            bag=name, topic="/odom", condition="near_position", value={"x": 1.0, "y": 0.0, "radius": 0.2}
+        )
+
+        def run(index: bool) -> object:
+            return search_messages(access, params, Unreported(), budget_bytes=16_000, use_index=index)
+
+        with_index = median_s(lambda: run(True), repeat)
+        without = median_s(lambda: run(False), repeat)
+        embedded.runner.shutdown()
     return with_index, without
 
 

@@ -1,1 +1,1 @@
-"""bagmcp gateway: the single ingress (MCP endpoint, REST front) and the bagmcp command."""
+"""bagmcp gateway: the single ingress (aggregated MCP endpoint, REST front, health); it knows no service."""

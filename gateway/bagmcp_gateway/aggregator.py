@@ -1,132 +1,165 @@
-"""The gateway's MCP server: one tool list from all upstreams, calls routed to their owner.
+"""The gateway's MCP server: one tool list from every upstream (as the caller may see it), calls checked
+again, rate limited, routed to their upstream with progress relayed, capped, audited and counted.
 
 Built on the low-level SDK server so upstream input and output schemas pass through unchanged.
-A failing upstream drops out of tools/list (and its calls answer with an error) without
-affecting the others.
 """
 
 from __future__ import annotations
 
+import json
 import logging
-from collections.abc import Callable
-from contextlib import AbstractAsyncContextManager
+import time
 from dataclasses import dataclass, field
 from typing import Any
 
 import anyio
 import mcp.types as types
-from mcp import Client, MCPError
+from mcp import MCPError
 from mcp.server import Server, ServerRequestContext
 from mcp.server.auth.middleware.auth_context import get_access_token
+from mcp.server.auth.provider import AccessToken
+from mcp.server.subscriptions import InMemorySubscriptionBus, ListenHandler, SubscriptionBus
 
+from bagmcp_gateway.answers import DEFAULT_MAX_CHARS, cap_answer, error_result
+from bagmcp_gateway.audit import AuditLog, AuditRecord
+from bagmcp_gateway.catalog import ToolCatalog
 from bagmcp_gateway.connections import Connections
+from bagmcp_gateway.metrics import GatewayMetrics
+from bagmcp_gateway.policy import ToolPolicy
+from bagmcp_gateway.ratelimit import RateLimiter, retry_after_s
 from bagmcp_gateway.upstreams import GatewayConfigError, Upstream
+from bagmcp_kit.identity import LOCAL_CALLER, OWNER_META_KEY
 
 log = logging.getLogger(__name__)
-# Who called, for upstreams that keep per-caller state (jobs). Set here, never taken from the client.
-OWNER_META_KEY = "bagmcp/owner"
 
 
 @dataclass
-class Routing:
-    """Exposed tool name -> (upstream, original name), refreshed on every tools/list."""
+class Gateway:
+    """Everything a call goes through; ``limiter`` and ``audit`` None switch those off."""
 
-    routes: dict[str, tuple[Upstream, str]] = field(default_factory=dict)
-    down: dict[str, str] = field(default_factory=dict)
+    catalog: ToolCatalog
+    connections: Connections
+    policy: ToolPolicy = field(default_factory=ToolPolicy)
+    limiter: RateLimiter | None = None
+    audit: AuditLog | None = None
+    metrics: GatewayMetrics = field(default_factory=GatewayMetrics)
+    max_answer_chars: int = DEFAULT_MAX_CHARS
+    audit_arguments: bool = False
+    listed: bool = False
 
-
-ClientOf = Callable[[Upstream], AbstractAsyncContextManager[Client]]
-
-
-def _one_off(upstream: Upstream) -> AbstractAsyncContextManager[Client]:
-    return upstream.client()
-
-
-async def _list_one(upstream: Upstream, client_of: ClientOf) -> list[types.Tool]:
-    with anyio.fail_after(upstream.timeout_s):
-        async with client_of(upstream) as client:
-            result = await client.list_tools()
-    return list(result.tools)
-
-
-async def collect_tools(
-    upstreams: list[Upstream], routing: Routing, client_of: ClientOf = _one_off
-) -> list[types.Tool]:
-    """List every upstream concurrently; a failed upstream's tools are left out."""
-    found: dict[str, list[types.Tool]] = {}
-
-    async def one(upstream: Upstream) -> None:
-        try:
-            found[upstream.name] = await _list_one(upstream, client_of)
-            routing.down.pop(upstream.name, None)
-        except Exception as err:  # any transport failure means "down"; the others go on
-            routing.down[upstream.name] = f"{type(err).__name__}: {err}"
-            log.warning("upstream %s is unavailable: %s", upstream.name, err)
-
-    async with anyio.create_task_group() as group:
-        for upstream in upstreams:
-            group.start_soon(one, upstream)
-    tools: list[types.Tool] = []
-    routes: dict[str, tuple[Upstream, str]] = {}
-    for upstream in upstreams:
-        for tool in found.get(upstream.name, []):
-            name = upstream.exposed(tool.name)
-            if name in routes:
-                raise GatewayConfigError(
-                    f"tool {name!r} is published by {routes[name][0].name} and {upstream.name}; "
-                    "give one of them a prefix"
-                )
-            routes[name] = (upstream, tool.name)
-            tools.append(tool.model_copy(update={"name": name}))
-    routing.routes = routes
-    return tools
+    async def tools(self) -> list[types.Tool]:
+        if not self.listed:  # in-process use (stdio, tests) lists on first need: its start-up
+            await self.catalog.refresh_all()
+            self.catalog.check_startup()
+            self.listed = True
+        return self.catalog.tools
 
 
-def _error(text: str) -> types.CallToolResult:
-    return types.CallToolResult(content=[types.TextContent(type="text", text=text)], is_error=True)
+def _who(caller: AccessToken | None) -> str:
+    return caller.client_id if caller is not None else LOCAL_CALLER
 
 
-def build_gateway_server(
-    upstreams: list[Upstream], *, name: str = "bagmcp", connections: Connections | None = None
-) -> Server[Any]:
-    """The aggregated MCP server over ``upstreams``; with ``connections`` (running), calls reuse
-    long-lived upstream clients instead of opening one per call."""
-    routing = Routing()
-    client_of: ClientOf = connections.client if connections is not None else _one_off
+async def _forward(
+    gateway: Gateway,
+    ctx: ServerRequestContext[Any],
+    upstream: Upstream,
+    original: str,
+    arguments: dict[str, Any],
+    who: str,
+) -> types.CallToolResult:
+    async def relay(progress: float, total: float | None, message: str | None) -> None:
+        await ctx.session.report_progress(progress, total, message)
 
+    with anyio.fail_after(upstream.call_timeout_s):
+        async with gateway.connections.client(upstream) as client:
+            return await client.call_tool(original, arguments, progress_callback=relay, meta={OWNER_META_KEY: who})  # type: ignore[arg-type]
+
+
+async def call_tool(
+    gateway: Gateway, ctx: ServerRequestContext[Any], params: types.CallToolRequestParams
+) -> types.CallToolResult:
+    caller = get_access_token()
+    who = _who(caller)
+    arguments = params.arguments or {}
+    began = time.perf_counter()
+    record = AuditRecord(
+        token=who, tool=params.name, upstream=None, request_bytes=len(json.dumps(arguments, default=str))
+    )
+    if gateway.audit_arguments:
+        record.arguments = dict(arguments)
+    result = await _checked_call(gateway, ctx, params.name, arguments, caller, record)
+    record.duration_ms = round((time.perf_counter() - began) * 1000, 3)
+    record.response_bytes = sum(len(c.text) for c in result.content if isinstance(c, types.TextContent))
+    gateway.metrics.record(params.name, record.upstream or "-", record.outcome, time.perf_counter() - began)
+    if gateway.audit is not None:
+        gateway.audit.write(record)
+    return result
+
+
+async def _checked_call(
+    gateway: Gateway,
+    ctx: ServerRequestContext[Any],
+    name: str,
+    arguments: dict[str, Any],
+    caller: AccessToken | None,
+    record: AuditRecord,
+) -> types.CallToolResult:
+    await gateway.tools()
+    tool, route = gateway.catalog.tool(name), gateway.catalog.routes.get(name)
+    if tool is None or route is None:
+        gone = gateway.catalog.known.get(name)
+        record.outcome, record.upstream = ("unavailable", gone.name) if gone else ("unknown_tool", None)
+        if gone is not None:
+            return error_result(
+                f"the {gone.name} service is unavailable right now, so {name} cannot run; try again shortly"
+            )
+        down = ", ".join(n for n, state in gateway.catalog.states.items() if not state.up) or "none"
+        return error_result(f"Unknown tool: {name} (services unavailable right now: {down})")
+    upstream, original = route
+    record.upstream = upstream.name
+    if not gateway.policy.allows(tool, caller):
+        record.outcome = "denied"
+        return error_result(f"{name} is not enabled for this token (its profile, allow/deny lists or scopes)")
+    if gateway.limiter is not None and (wait := await anyio.to_thread.run_sync(gateway.limiter.take, _who(caller))):
+        record.outcome = "rate_limited"
+        after = retry_after_s(wait)
+        return error_result(f"rate limit reached for this token; retry after {after} s", retryAfterSeconds=after)
+    try:
+        result = await _forward(gateway, ctx, upstream, original, arguments, _who(caller))
+    except Exception as err:  # transport failure or timeout: the tool is there but its service is not
+        log.warning("call of %s on %s failed: %s", original, upstream.name, err)
+        gateway.catalog.failed(upstream)
+        record.outcome = "unavailable"
+        return error_result(
+            f"the {upstream.name} service is unavailable right now ({type(err).__name__}); try again shortly"
+        )
+    record.outcome = "error" if result.is_error else "ok"
+    return cap_answer(result, max_chars=gateway.max_answer_chars)
+
+
+def gateway_server(gateway: Gateway, bus: SubscriptionBus, *, name: str = "bagmcp") -> Server[Any]:
     async def on_list_tools(
         ctx: ServerRequestContext[Any], params: types.PaginatedRequestParams | None
     ) -> types.ListToolsResult:
         try:
-            return types.ListToolsResult(tools=await collect_tools(upstreams, routing, client_of))
+            tools = await gateway.tools()
         except GatewayConfigError as err:
-            log.error("gateway configuration error: %s", err)
             raise MCPError(types.INTERNAL_ERROR, f"gateway configuration error: {err}") from err
+        return types.ListToolsResult(tools=gateway.policy.shown(tools, get_access_token()))
 
     async def on_call_tool(ctx: ServerRequestContext[Any], params: types.CallToolRequestParams) -> types.CallToolResult:
-        if params.name not in routing.routes:
-            try:
-                await collect_tools(upstreams, routing, client_of)
-            except GatewayConfigError as err:
-                return _error(f"gateway configuration error: {err}")
-        route = routing.routes.get(params.name)
-        if route is None:
-            down = ", ".join(routing.down) or "none"
-            return _error(f"Unknown tool: {params.name} (upstreams currently unavailable: {down})")
-        upstream, original = route
+        return await call_tool(gateway, ctx, params)
 
-        async def relay(progress: float, total: float | None, message: str | None) -> None:
-            await ctx.session.report_progress(progress, total, message)
+    return Server(
+        name, on_list_tools=on_list_tools, on_call_tool=on_call_tool, on_subscriptions_listen=ListenHandler(bus)
+    )
 
-        token = get_access_token()
-        meta = {OWNER_META_KEY: token.client_id if token is not None else "local"}
-        try:
-            async with client_of(upstream) as client:
-                return await client.call_tool(original, params.arguments or {}, progress_callback=relay, meta=meta)  # type: ignore[arg-type]
-        except Exception as err:  # transport failure: the tool is there but its service is not
-            log.warning("call of %s on %s failed: %s", original, upstream.name, err)
-            return _error(
-                f"the {upstream.name} service is unavailable right now ({type(err).__name__}); try again shortly"
-            )
 
-    return Server(name, on_list_tools=on_list_tools, on_call_tool=on_call_tool)
+def build_gateway_server(
+    upstreams: list[Upstream], *, connections: Connections | None = None, name: str = "bagmcp"
+) -> Server[Any]:
+    """An aggregating server for in-process use (stdio, tests): no auth, limits or background refresh;
+    ``connections`` (when its ``run`` is going) keeps long-lived upstream clients."""
+    bus = InMemorySubscriptionBus()
+    links = connections or Connections(upstreams)
+    return gateway_server(Gateway(ToolCatalog(upstreams, links, bus), links), bus, name=name)

@@ -1,48 +1,96 @@
-"""``create_app``: the gateway: aggregated MCP at /mcp, REST under /api/v1, /healthz, /readyz."""
+"""``create_app``: the gateway: aggregated MCP at /mcp (tokens, tool policy, rate limits, audit, metrics),
+REST under /api/v1 (proxied or embedded, and the admin routes for tokens), /healthz, /readyz, /metrics."""
 
 from __future__ import annotations
 
 import contextlib
-from collections.abc import AsyncIterator, Callable
-from dataclasses import dataclass, field
+from collections.abc import AsyncIterator, Callable, Sequence
 
 import anyio
 from fastapi import APIRouter, Depends, FastAPI
-from fastapi.responses import JSONResponse
+from fastapi.responses import JSONResponse, Response
 from mcp.server.auth.settings import AuthSettings
+from mcp.server.subscriptions import InMemorySubscriptionBus
 from mcp.server.transport_security import TransportSecuritySettings
 from pydantic import AnyHttpUrl
 
-from bagmcp_gateway.aggregator import Routing, build_gateway_server, collect_tools
-from bagmcp_gateway.auth import CLIENT_SCOPE, ApiTokenVerifier, rest_auth
+from bagmcp_gateway.aggregator import Gateway, gateway_server
+from bagmcp_gateway.audit import AuditLog
+from bagmcp_gateway.auth import rest_auth
+from bagmcp_gateway.catalog import ToolCatalog
 from bagmcp_gateway.connections import Connections
-from bagmcp_gateway.upstreams import GatewayConfigError, Upstream
+from bagmcp_gateway.metrics import GatewayMetrics
+from bagmcp_gateway.ratelimit import MemoryRateLimiter, RateLimiter, RedisRateLimiter
+from bagmcp_gateway.settings import GatewaySettings
+from bagmcp_gateway.tokens.admin import TokenNotFoundError, build_admin_router
+from bagmcp_gateway.tokens.models import SCOPES, TokenRecord
+from bagmcp_gateway.tokens.store import FileTokenStore, RedisTokenStore, TokenStore
+from bagmcp_gateway.tokens.verifier import GatewayVerifier
+from bagmcp_gateway.upstreams import Upstream
+from bagmcp_kit.error_shape import UniformAuthErrors
+from bagmcp_kit.http_errors import StatusTable
+from bagmcp_kit.service_app import new_app
+from bagmcp_shared.resources import redis_client
+
+ADMIN_STATUSES: StatusTable = [(TokenNotFoundError, 404, "token_not_found")]
 
 
-@dataclass(frozen=True)
-class GatewayConfig:
-    """``token_hashes`` empty means no authentication (only for a loopback embedded server)."""
-
-    upstreams: list[Upstream]
-    token_hashes: list[str] = field(default_factory=list)
-    public_url: str = "http://127.0.0.1:8080"
-    allowed_hosts: tuple[str, ...] = ("127.0.0.1:*", "localhost:*", "[::1]:*")
+def _token_store(settings: GatewaySettings) -> TokenStore | None:
+    if settings.redis_url is not None:
+        return RedisTokenStore(redis_client(settings.redis_url))
+    return FileTokenStore(settings.tokens_file) if settings.tokens_file is not None else None
 
 
-def create_app(config: GatewayConfig, *, rest: APIRouter, on_shutdown: Callable[[], None] | None = None) -> FastAPI:
-    """The gateway app. ``rest`` serves /api/v1 (a proxy in team mode, the bag-store's routes embedded)."""
-    verifier = ApiTokenVerifier(config.token_hashes) if config.token_hashes else None
-    connections = Connections(config.upstreams)
-    server = build_gateway_server(config.upstreams, connections=connections)
+def _limiter(settings: GatewaySettings) -> RateLimiter | None:
+    if settings.rate_limit is None:
+        return None
+    if settings.redis_url is not None:
+        return RedisRateLimiter(redis_client(settings.redis_url), settings.rate_limit)
+    return MemoryRateLimiter(settings.rate_limit)
+
+
+def _verifier(settings: GatewaySettings, store: TokenStore | None) -> GatewayVerifier | None:
+    if not settings.authenticated:
+        return None
+    static = {h: TokenRecord(name=f"token-{h[:8]}", hash=h, scopes=list(SCOPES)) for h in settings.token_hashes}
+    return GatewayVerifier(store, static=static, jwt_settings=settings.jwt)
+
+
+def create_app(
+    settings: GatewaySettings,
+    *,
+    upstreams: list[Upstream],
+    rest: Sequence[APIRouter],
+    statuses: StatusTable = (),
+    on_shutdown: Callable[[], None] | None = None,
+) -> FastAPI:
+    """The gateway app over ``upstreams``. ``rest`` serves /api/v1: the proxy in team mode, the
+    services' own routes when embedded (``statuses`` then maps their errors)."""
+    store = _token_store(settings)
+    verifier = _verifier(settings, store)
+    bus = InMemorySubscriptionBus()
+    connections = Connections(upstreams)
+    catalog = ToolCatalog(upstreams, connections, bus, poll_s=settings.upstream_poll_s)
+    gateway = Gateway(
+        catalog,
+        connections,
+        policy=settings.policy,
+        limiter=_limiter(settings),
+        audit=AuditLog() if settings.audit else None,
+        metrics=GatewayMetrics(),
+        max_answer_chars=settings.max_answer_chars,
+        audit_arguments=settings.audit_arguments,
+    )
+    server = gateway_server(gateway, bus)
     auth = None
     if verifier is not None:
         auth = AuthSettings(
-            issuer_url=AnyHttpUrl(config.public_url),
-            resource_server_url=AnyHttpUrl(f"{config.public_url}/mcp"),
-            required_scopes=[CLIENT_SCOPE],
+            issuer_url=AnyHttpUrl(settings.public_url),
+            resource_server_url=AnyHttpUrl(f"{settings.public_url}/mcp"),
+            required_scopes=["read"],
             validate_token_resource=False,
         )
-    security = TransportSecuritySettings(allowed_hosts=list(config.allowed_hosts), allowed_origins=[])
+    security = TransportSecuritySettings(allowed_hosts=list(settings.http.allowed_hosts), allowed_origins=[])
     mcp_app = server.streamable_http_app(
         streamable_http_path="/mcp",
         stateless_http=True,
@@ -56,31 +104,39 @@ def create_app(config: GatewayConfig, *, rest: APIRouter, on_shutdown: Callable[
     async def lifespan(_app: FastAPI) -> AsyncIterator[None]:
         async with anyio.create_task_group() as group:
             await group.start(connections.run)
+            await catalog.refresh_all()
+            catalog.check_startup()  # a tool name two upstreams publish stops the gateway here, naming both
+            gateway.listed = True
+            await group.start(catalog.run)
             async with server.session_manager.run():
                 yield
             group.cancel_scope.cancel()
+        if gateway.audit is not None:
+            gateway.audit.close()
         if on_shutdown is not None:
             on_shutdown()
 
-    app = FastAPI(title="bagmcp gateway", lifespan=lifespan)
-    app.include_router(rest, dependencies=[Depends(rest_auth(verifier))])
-
-    @app.get("/healthz")
-    def healthz() -> dict[str, bool]:
-        return {"ok": True}
+    routers = [*rest]
+    if store is not None and verifier is not None:
+        routers.insert(0, build_admin_router(store, profiles=list(settings.policy.profiles), forget=verifier.forget))
+    guard = rest_auth(verifier)
+    app = new_app(
+        title="bagmcp gateway", lifespan=lifespan, routers=routers, guard=guard, statuses=[*ADMIN_STATUSES, *statuses]
+    )
 
     @app.get("/readyz")
-    async def readyz() -> JSONResponse:
-        """Per-upstream up/down (details go to the gateway's log, not to unauthenticated callers)."""
-        routing = Routing()
-        try:
-            with anyio.move_on_after(15):
-                await collect_tools(config.upstreams, routing)
-        except GatewayConfigError:
-            return JSONResponse({"ready": False, "error": "configuration error (see the gateway log)"}, status_code=503)
-        status = {u.name: "down" if u.name in routing.down else "up" for u in config.upstreams}
-        ready = not routing.down
-        return JSONResponse({"ready": ready, "upstreams": status}, status_code=200 if ready else 503)
+    def readyz() -> JSONResponse:
+        """Each upstream up or down (the reasons go to the gateway's log, not to unauthenticated callers)."""
+        status = {name: "up" if state.up else "down" for name, state in catalog.states.items()}
+        for name, up in status.items():
+            gateway.metrics.upstream_up.labels(name).set(1 if up == "up" else 0)
+        ready = all(s == "up" for s in status.values()) and not catalog.conflicts
+        body = {"ready": ready, "upstreams": status, "tools": len(catalog.tools), "conflicts": len(catalog.conflicts)}
+        return JSONResponse(body, status_code=200 if ready else 503)
 
-    app.mount("/", mcp_app)
+    @app.get("/metrics", dependencies=[Depends(guard)])
+    def metrics() -> Response:
+        return Response(gateway.metrics.exposition(), media_type=gateway.metrics.content_type)
+
+    app.mount("/", UniformAuthErrors(mcp_app))
     return app

@@ -1,49 +1,38 @@
-"""Client authentication: bearer API tokens, kept only as SHA-256 hashes."""
+"""REST authentication at the gateway: a valid bearer token, and the scope the route needs
+(upload to upload, delete to delete, admin for tokens and metrics, read for the rest)."""
 
 from __future__ import annotations
 
-import hashlib
-import hmac
-from collections.abc import Awaitable, Callable, Iterable
+from collections.abc import Awaitable, Callable
 
-from fastapi import HTTPException, Request
-from mcp.server.auth.provider import AccessToken
+from fastapi import Request
 
-CLIENT_SCOPE = "bagmcp:read"
+from bagmcp_gateway.tokens.verifier import GatewayVerifier
+from bagmcp_kit.http_errors import HttpError
 
 
-def token_hash(token: str) -> str:
-    return hashlib.sha256(token.encode()).hexdigest()
+def scope_for(method: str, path: str) -> str:
+    if path.startswith(("/api/v1/tokens", "/metrics")):
+        return "admin"
+    if path.startswith("/api/v1/bags") and method == "POST":
+        return "upload"
+    if method == "DELETE":
+        return "delete"
+    return "read"
 
 
-class ApiTokenVerifier:
-    """Accepts tokens whose SHA-256 is among the configured hashes."""
-
-    def __init__(self, hashes: Iterable[str]) -> None:
-        self._hashes = sorted(set(hashes))
-
-    def check(self, token: str) -> bool:
-        digest = token_hash(token)
-        return any(hmac.compare_digest(digest, known) for known in self._hashes)
-
-    async def verify_token(self, token: str) -> AccessToken | None:
-        if not self.check(token):
-            return None
-        return AccessToken(token=token, client_id=f"token-{token_hash(token)[:8]}", scopes=[CLIENT_SCOPE])
-
-
-def rest_auth(verifier: ApiTokenVerifier | None) -> Callable[[Request], Awaitable[None]]:
-    """A FastAPI dependency requiring a valid bearer token (none required without a verifier)."""
+def rest_auth(verifier: GatewayVerifier | None) -> Callable[[Request], Awaitable[None]]:
+    """A FastAPI dependency requiring a valid bearer token with the route's scope (none without a verifier)."""
 
     async def check(request: Request) -> None:
         if verifier is None:
             return
         scheme, _, token = request.headers.get("authorization", "").partition(" ")
-        if scheme.lower() != "bearer" or not verifier.check(token.strip()):
-            raise HTTPException(
-                status_code=401,
-                detail="a valid bearer token is required",
-                headers={"WWW-Authenticate": 'Bearer error="invalid_token"'},
-            )
+        access = await verifier.verify_token(token.strip()) if scheme.lower() == "bearer" and token else None
+        if access is None:
+            raise HttpError(401, "unauthorized", "a valid bearer token is required", bearer=True)
+        needed = scope_for(request.method, request.url.path)
+        if needed not in access.scopes:
+            raise HttpError(403, "forbidden", f"this token lacks the {needed!r} scope this route needs")
 
     return check

@@ -1,13 +1,16 @@
-"""The REST front: /api/v1/* forwarded to the bag-store, streamed both ways, service token swapped in."""
+"""The REST front: /api/v1/<segment>/... forwarded to the service configured for that segment,
+streamed both ways, the service credential swapped in for the caller's token."""
 
 from __future__ import annotations
 
 import re
-from collections.abc import AsyncIterator
+from collections.abc import AsyncIterator, Mapping
 
 import httpx
 from fastapi import APIRouter, Request
-from fastapi.responses import JSONResponse, Response, StreamingResponse
+from fastapi.responses import Response, StreamingResponse
+
+from bagmcp_kit.http_errors import error_response
 
 _HOP_HEADERS = {
     "host",
@@ -20,33 +23,33 @@ _HOP_HEADERS = {
     "proxy-authorization",
     "content-length",
 }
+# The only paths the gateway forwards: a configured segment, then at most two plain segments that start
+# with a letter or digit and hold no '/'. Anything else (e.g. an encoded "../mcp") is refused, so the
+# service credential can never reach another endpoint.
+_PATH = re.compile(r"^([a-z]+)(/[A-Za-z0-9][A-Za-z0-9._-]{0,127}(/[a-z]+)?)?$")
 
 
-# The only bag-store routes the gateway forwards; anything else (e.g. an encoded "../mcp") is refused,
-# so the service credential can never reach another endpoint.
-_ROUTES = re.compile(r"^bags(/[A-Za-z0-9][A-Za-z0-9._-]{0,127}(/download)?)?$")
+def route_of(path: str, routes: Mapping[str, str]) -> str | None:
+    """The base URL that serves ``/api/v1/<path>``, or None when the path may not be forwarded."""
+    match = _PATH.fullmatch(path)
+    return routes.get(match.group(1)) if match else None
 
 
-def forwardable(path: str) -> bool:
-    """Segments start with a letter or digit and hold no '/', so no path can leave /api/v1/bags."""
-    return _ROUTES.fullmatch(path) is not None
-
-
-def build_proxy(base_url: str, service_token: str | None) -> APIRouter:
+def build_proxy(routes: Mapping[str, str], service_token: str | None) -> APIRouter:
     router = APIRouter()
-    client = httpx.AsyncClient(base_url=base_url, timeout=httpx.Timeout(30.0, read=3600.0, write=3600.0))
+    client = httpx.AsyncClient(timeout=httpx.Timeout(30.0, read=3600.0, write=3600.0))
 
     @router.api_route("/api/v1/{path:path}", methods=["GET", "POST", "DELETE", "PUT", "PATCH"])
     async def forward(path: str, request: Request) -> Response:
-        if not forwardable(path):
-            message = f"no such route /api/v1/{path}; see /docs"
-            return JSONResponse({"error": {"code": "not_found", "message": message}}, status_code=404)
+        base = route_of(path, routes)
+        if base is None:
+            return error_response(404, "not_found", f"no such route /api/v1/{path}; see /docs")
         headers = {k: v for k, v in request.headers.items() if k.lower() not in _HOP_HEADERS}
         if service_token:
             headers["authorization"] = f"Bearer {service_token}"
         upstream_request = client.build_request(
             request.method,
-            f"/api/v1/{path}",
+            f"{base}/api/v1/{path}",
             params=httpx.QueryParams(str(request.query_params)),
             headers=headers,
             content=request.stream() if request.method in ("POST", "PUT", "PATCH") else None,
@@ -54,13 +57,8 @@ def build_proxy(base_url: str, service_token: str | None) -> APIRouter:
         try:
             upstream = await client.send(upstream_request, stream=True)
         except httpx.HTTPError as err:
-            body = {
-                "error": {
-                    "code": "bag_store_unavailable",
-                    "message": f"the bag-store service is unavailable ({type(err).__name__})",
-                }
-            }
-            return JSONResponse(body, status_code=503)
+            message = f"the service behind /api/v1/{path.split('/')[0]} is unavailable ({type(err).__name__})"
+            return error_response(503, "service_unavailable", message)
 
         async def relay() -> AsyncIterator[bytes]:
             try:

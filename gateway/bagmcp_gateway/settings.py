@@ -1,58 +1,148 @@
-"""Gateway settings for team mode, read once from ``BAGMCP_*`` environment variables."""
+"""Gateway settings, one class, read once from ``BAGMCP_*`` environment variables (team mode) or
+built by the embedded command."""
 
 from __future__ import annotations
 
-import os
-from dataclasses import dataclass
+import json
+from dataclasses import dataclass, field
+from pathlib import Path
 
-from bagmcp_gateway.auth import token_hash
+from bagmcp_gateway.answers import DEFAULT_MAX_CHARS
+from bagmcp_gateway.policy import DEFAULT_PROFILES, Profile, ToolPolicy
+from bagmcp_gateway.ratelimit import Limit
+from bagmcp_gateway.tokens.models import token_hash
+from bagmcp_gateway.tokens.verifier import JwtSettings
 from bagmcp_gateway.upstreams import GatewayConfigError, Upstream
+from bagmcp_shared.settings import Env, HttpSettings
 
-PLACEHOLDERS = {"", "changeme", "change-me", "secret"}
+DEFAULT_PORT = 8080
+
+
+def parse_upstreams(text: str, *, service_token: str | None) -> list[Upstream]:
+    """``name=url[@prefix][#timeout_s]`` items separated by commas: ``@prefix`` prefixes that upstream's tool
+    names, ``#timeout_s`` bounds its calls. Our services get the service token; ``!name=url`` marks a
+    third-party server, which never does."""
+    upstreams = []
+    for item in (i.strip() for i in text.split(",") if i.strip()):
+        foreign = item.startswith("!")
+        name, _, rest = item.lstrip("!").partition("=")
+        rest, _, timeout = rest.partition("#")
+        url, _, prefix = rest.partition("@")
+        if not url:
+            raise GatewayConfigError(f"BAGMCP_UPSTREAMS item {item!r} must look like name=http://host:port/mcp")
+        try:
+            call_timeout_s = float(timeout) if timeout else 600.0
+        except ValueError as err:
+            raise GatewayConfigError(f"BAGMCP_UPSTREAMS item {item!r}: the timeout after # must be seconds") from err
+        upstreams.append(
+            Upstream(
+                name=name,
+                url=url,
+                service_token=None if foreign else service_token,
+                prefix=prefix or None,
+                call_timeout_s=call_timeout_s,
+            )
+        )
+    names = [u.name for u in upstreams]
+    if len(set(names)) != len(names):
+        raise GatewayConfigError(f"BAGMCP_UPSTREAMS names an upstream twice: {', '.join(names)}")
+    return upstreams
+
+
+def parse_routes(text: str) -> dict[str, str]:
+    """``segment=base_url`` items: REST requests under ``/api/v1/<segment>`` go to that service."""
+    routes = {}
+    for item in (i.strip() for i in text.split(",") if i.strip()):
+        segment, _, url = item.partition("=")
+        if not segment.isidentifier() or not url:
+            raise GatewayConfigError(f"BAGMCP_REST_ROUTES item {item!r} must look like bags=http://host:port")
+        routes[segment] = url.rstrip("/")
+    return routes
+
+
+def parse_profiles(text: str | None) -> dict[str, Profile]:
+    """``{"name": {"tools": [globs], "lean": bool}}`` added to (or replacing) the built-in full and core."""
+    profiles = dict(DEFAULT_PROFILES)
+    if not text:
+        return profiles
+    try:
+        raw = json.loads(text)
+        for name, body in raw.items():
+            profiles[str(name)] = Profile(tuple(str(g) for g in body["tools"]), lean=bool(body.get("lean", False)))
+    except (ValueError, KeyError, TypeError, AttributeError) as err:
+        raise GatewayConfigError(
+            f'BAGMCP_PROFILES must be {{"name": {{"tools": ["glob"], "lean": false}}}} ({err})'
+        ) from err
+    return profiles
 
 
 @dataclass(frozen=True)
 class GatewaySettings:
-    upstreams: list[Upstream]
-    token_hashes: list[str]
-    bag_store_url: str
-    service_token: str
-    host: str
-    port: int
-    public_url: str
-    allowed_hosts: tuple[str, ...]
+    """No ``token_hashes``, ``redis_url`` (tokens made with `bagmcp token`), ``tokens_file`` or ``jwt`` means
+    no authentication (only for a loopback embedded server). Every token in ``token_hashes`` has every scope
+    (the development token).
+
+    ``rest_routes`` maps the first segment under /api/v1 (``bags``, ``artifacts``) to the service that
+    serves it; ``redis_url`` holds the shared job store, the team's tokens and the rate limits."""
+
+    upstreams: list[Upstream] = field(default_factory=list)
+    token_hashes: list[str] = field(default_factory=list)
+    service_token: str | None = None
+    http: HttpSettings = field(default_factory=HttpSettings)
+    public_url: str = "http://127.0.0.1:8080"
+    rest_routes: dict[str, str] = field(default_factory=dict)
+    redis_url: str | None = None
+    tokens_file: Path | None = None
+    jwt: JwtSettings | None = None
+    policy: ToolPolicy = field(default_factory=ToolPolicy)
+    rate_limit: Limit | None = None
+    max_answer_chars: int = DEFAULT_MAX_CHARS
+    audit: bool = False
+    audit_arguments: bool = False
+    upstream_poll_s: float = 5.0
+
+    @property
+    def authenticated(self) -> bool:
+        return bool(self.token_hashes or self.redis_url or self.tokens_file or self.jwt)
 
     @classmethod
-    def from_env(cls, env: dict[str, str] | None = None) -> GatewaySettings:
-        """Refuses to start without a client token and a non-placeholder service token.
-
-        ``BAGMCP_UPSTREAMS`` is ``name=url[,name=url...]``; an optional ``@prefix`` after the url
-        prefixes that upstream's tool names.
-        """
-        env = dict(os.environ) if env is None else env
-        service = env.get("BAGMCP_SERVICE_TOKEN", "")
-        if service.lower() in PLACEHOLDERS:
-            raise GatewayConfigError("BAGMCP_SERVICE_TOKEN must be set to a real secret")
-        tokens = [t for t in env.get("BAGMCP_TOKENS", env.get("BAGMCP_DEV_TOKEN", "")).split(",") if t.strip()]
-        hashes = [token_hash(t.strip()) for t in tokens]
-        hashes += [h for h in env.get("BAGMCP_TOKEN_HASHES", "").split(",") if h.strip()]
-        if not hashes:
-            raise GatewayConfigError("set BAGMCP_TOKENS (or BAGMCP_TOKEN_HASHES): the gateway needs client tokens")
-        upstreams = []
-        for item in env.get("BAGMCP_UPSTREAMS", "bag-store=http://127.0.0.1:8001/mcp").split(","):
-            name, _, rest = item.strip().partition("=")
-            url, _, prefix = rest.partition("@")
-            upstreams.append(Upstream(name=name, url=url, service_token=service, prefix=prefix or None))
-        host = env.get("BAGMCP_HOST", "127.0.0.1")
-        port = int(env.get("BAGMCP_PORT", "8080"))
-        allowed = tuple(h for h in env.get("BAGMCP_ALLOWED_HOSTS", "127.0.0.1:*,localhost:*").split(",") if h)
+    def from_env(cls, env: Env | None = None) -> GatewaySettings:
+        """Refuses to start without a way to authenticate callers and a real service token."""
+        env = env or Env()
+        service = env.secret("BAGMCP_SERVICE_TOKEN")
+        tokens = env.items("BAGMCP_TOKENS") or env.items("BAGMCP_DEV_TOKEN")
+        hashes = [token_hash(t) for t in tokens] + list(env.items("BAGMCP_TOKEN_HASHES"))
+        redis_url = env.optional("BAGMCP_REDIS_URL")
+        jwks = env.optional("BAGMCP_JWT_JWKS_URL")
+        jwt_settings = (
+            JwtSettings(jwks, env.need("BAGMCP_JWT_ISSUER"), env.optional("BAGMCP_JWT_AUDIENCE")) if jwks else None
+        )
+        if not hashes and not redis_url and jwt_settings is None:
+            raise GatewayConfigError(
+                "set BAGMCP_TOKENS, BAGMCP_REDIS_URL (tokens made with `bagmcp token`) or BAGMCP_JWT_*"
+            )
+        http = HttpSettings.from_env(env, port=DEFAULT_PORT, extra_hosts=("gateway:*",))
+        rate = env.number("BAGMCP_RATE_LIMIT_PER_S", 20.0)
+        upstreams = parse_upstreams(
+            env.text("BAGMCP_UPSTREAMS", "bag-store=http://127.0.0.1:8001/mcp"), service_token=service
+        )
         return cls(
             upstreams=upstreams,
             token_hashes=hashes,
-            bag_store_url=env.get("BAGMCP_BAG_STORE_URL", "http://127.0.0.1:8001"),
             service_token=service,
-            host=host,
-            port=port,
-            public_url=env.get("BAGMCP_PUBLIC_URL", f"http://{host}:{port}"),
-            allowed_hosts=allowed,
+            http=http,
+            public_url=env.text("BAGMCP_PUBLIC_URL", f"http://{http.host}:{http.port}"),
+            rest_routes=parse_routes(env.text("BAGMCP_REST_ROUTES", "bags=http://127.0.0.1:8001")),
+            redis_url=redis_url,
+            jwt=jwt_settings,
+            policy=ToolPolicy(
+                enabled=env.items("BAGMCP_ENABLED_TOOLS", ("*",)),
+                disabled=env.items("BAGMCP_DISABLED_TOOLS"),
+                profiles=parse_profiles(env.optional("BAGMCP_PROFILES")),
+            ),
+            rate_limit=Limit(rate, env.integer("BAGMCP_RATE_BURST", 40)) if rate > 0 else None,
+            max_answer_chars=env.integer("BAGMCP_MAX_ANSWER_CHARS", DEFAULT_MAX_CHARS),
+            audit=env.flag("BAGMCP_AUDIT", True),
+            audit_arguments=env.flag("BAGMCP_AUDIT_ARGUMENTS", False),
+            upstream_poll_s=env.number("BAGMCP_UPSTREAM_POLL_S", 5.0),
         )

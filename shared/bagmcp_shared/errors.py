@@ -53,3 +53,35 @@ class ObjectNotFoundError(StorageError):
 
 class InvalidKeyError(StorageError):
     """An object key is malformed or tries to escape the store (e.g. ``..``)."""
+
+
+class ArgumentError(BagmcpError):
+    """A tool or route argument is out of range or of the wrong kind."""
+
+
+class SettingsError(BagmcpError):
+    """A setting is missing or unsafe; the process refuses to start."""
+
+
+class BagNotFoundError(BagmcpError):
+    """No bag matches the id, name or prefix the caller gave."""
+
+
+class AmbiguousBagError(BagmcpError):
+    """A prefix matches more than one bag."""
+
+
+class NameTakenError(BagmcpError):
+    """Another bag already has this name."""
+
+
+class BagNotReadyError(BagmcpError):
+    """The bag is still being ingested, or its ingest failed."""
+
+
+class JobNotFoundError(BagmcpError):
+    """No job with this id belongs to the caller."""
+
+
+class JobCancelledError(BagmcpError):
+    """The job's owner cancelled it; the work stops at its next progress report."""

@@ -9,12 +9,15 @@ are addressed by offset or ISO string, since their epoch numbers fall below 1e9.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 from datetime import UTC, datetime
+
+from pydantic import BaseModel, Field
 
 from bagmcp_shared.errors import TimeError
 
 EPOCH_THRESHOLD_S = 1e9
+MAX_CLOCK_SKEW_NS = 60 * 10**9  # a header stamp further than this from log time is on another clock
+MAX_EPOCH_S = 1e11  # the year 5138: anything larger is a mistake, not a time
 TimeInput = float | int | str
 
 
@@ -43,8 +46,8 @@ def parse_time(value: TimeInput, *, start_ns: int) -> int:
             return _parse_iso(value)
     else:
         number = float(value)
-    if not math.isfinite(number):
-        raise TimeError(f"time must be finite, not {value!r}")
+    if not math.isfinite(number) or abs(number) > MAX_EPOCH_S:
+        raise TimeError(f"time {value!r} is out of range; give seconds from the bag start, epoch seconds or ISO-8601")
     if abs(number) < EPOCH_THRESHOLD_S:
         return start_ns + round(number * 1e9)
     return round(number * 1e9)
@@ -57,21 +60,16 @@ def iso_from_ns(stamp_ns: int) -> str:
     return moment.isoformat().replace("+00:00", "Z")
 
 
-@dataclass(frozen=True)
-class Stamp:
-    """One instant as answers report it: offset from the bag start and absolute time."""
+class Instant(BaseModel):
+    """One instant as every answer reports it: seconds from the bag start, epoch seconds, ISO-8601 UTC."""
 
-    offset_s: float
-    stamp_s: float
+    offset_s: float = Field(description="seconds from the bag start")
+    stamp_s: float = Field(description="epoch seconds")
     iso: str
 
     @classmethod
-    def of(cls, stamp_ns: int, *, start_ns: int) -> Stamp:
-        return cls(
-            offset_s=round((stamp_ns - start_ns) / 1e9, 9),
-            stamp_s=stamp_ns / 1e9,
-            iso=iso_from_ns(stamp_ns),
-        )
+    def of(cls, stamp_ns: int, *, start_ns: int) -> Instant:
+        return cls(offset_s=round((stamp_ns - start_ns) / 1e9, 9), stamp_s=stamp_ns / 1e9, iso=iso_from_ns(stamp_ns))
 
 
 def header_stamp_ns(message: object) -> int | None:

@@ -7,15 +7,18 @@ from contextlib import ExitStack
 from pathlib import Path
 from typing import Any
 
+import anyio
 import httpx
 import pytest
 
-from tests.fixtures.bagfactory import BagKind
+from tests.fixtures.bagfactory import BagKind, write_chatter_bag, write_transform_bag
 from tests.fixtures.processes import wait_until
 from tests.fixtures.servers import S3Endpoint
 from tests.integration.stack import TOKEN, Stack, start_stack
 
 SCENARIO_NAMES = ["scenario", "scenario_db3", "scenario_mcap"]
+CHATTER_MESSAGES = 300_000
+POSES_TF_MESSAGES = 300_000
 
 
 @pytest.fixture(scope="session")
@@ -32,6 +35,30 @@ def uploaded(stack: Stack, scenario_bags: dict[BagKind, Path]) -> dict[BagKind, 
     return answers
 
 
+@pytest.fixture(scope="session")
+def chatter(stack: Stack, tmp_path_factory: pytest.TempPathFactory) -> str:
+    """A 300,000-message bag uploaded to the stack: searching or scanning it outlasts the job budget."""
+    answer = stack.upload_ok(write_chatter_bag(tmp_path_factory.mktemp("chatter"), count=CHATTER_MESSAGES))
+    anyio.run(stack.wait_ready, [answer["name"]])
+    return str(answer["name"])
+
+
+@pytest.fixture(scope="session")
+def poses_tf(stack: Stack, tmp_path_factory: pytest.TempPathFactory) -> str:
+    """300,000 TransformStamped (not in the columnar index): analysing them outlasts the job budget."""
+    answer = stack.upload_ok(write_transform_bag(tmp_path_factory.mktemp("poses"), count=POSES_TF_MESSAGES))
+    anyio.run(stack.wait_ready, [answer["name"]])
+    return str(answer["name"])
+
+
 def _all_ready(stack: Stack) -> bool:
     listing = httpx.get(f"{stack.url}/api/v1/bags", params={"limit": 500}, headers={"Authorization": f"Bearer {TOKEN}"})
     return all(b["status"] != "ingesting" for b in listing.json()["bags"])
+
+
+def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
+    """Everything under tests/integration starts real servers or processes: mark it ``integration``."""
+    here = Path(__file__).parent
+    for item in items:
+        if here in Path(str(item.path)).parents:
+            item.add_marker(pytest.mark.integration)

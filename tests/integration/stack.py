@@ -7,7 +7,7 @@ import json
 import os
 import signal
 import subprocess
-from contextlib import ExitStack
+from contextlib import AbstractContextManager, ExitStack
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -17,16 +17,14 @@ from minio import Minio
 
 from tests.fixtures.mcp_client import call, http_client
 from tests.fixtures.processes import BIN, http_ok, service
-from tests.fixtures.servers import S3Endpoint, free_port
+from tests.fixtures.servers import S3Endpoint, free_port, free_ports
 
 TOKEN = "test-client-token"
 OTHER_TOKEN = "test-other-client-token"
 SERVICE_TOKEN = "test-service-token"
 JOB_BUDGET_S = 1.0
 VISIBILITY_TIMEOUT_S = 5
-WORKER = [
-    "-A",
-    "bagmcp_bag_store.worker:app",
+WORKER_FLAGS = [
     "worker",
     "--pool",
     "solo",
@@ -38,6 +36,7 @@ WORKER = [
     "--without-gossip",
     "--without-mingle",
 ]
+SERVICES = {"bag-store": "bagmcp_bag_store", "analysis": "bagmcp_analysis", "plotting": "bagmcp_plotting"}
 
 
 @dataclass
@@ -50,15 +49,21 @@ class Stack:
     bag_store_data: Path
     worker_env: dict[str, str]
     exits: ExitStack
-    workers: list[subprocess.Popen[bytes]] = field(default_factory=list)
+    redis_url: str = ""
+    service_urls: dict[str, str] = field(default_factory=dict)
+    workers: list[tuple[str, subprocess.Popen[bytes]]] = field(default_factory=list)
 
-    def start_worker(self) -> subprocess.Popen[bytes]:
-        name = f"worker-{len(self.workers) + 1}"
-        proc = self.exits.enter_context(
-            service(name, [str(BIN / "celery"), *WORKER], env=self.worker_env, log_dir=self.logs)
-        )
-        self.workers.append(proc)
+    def start_worker(self, of: str = "bag-store") -> subprocess.Popen[bytes]:
+        """A worker of one service (it takes only that service's queue)."""
+        name = f"{of}-worker-{len(self.workers) + 1}"
+        command = [str(BIN / "celery"), "-A", f"{SERVICES[of]}.worker:app", *WORKER_FLAGS]
+        env = {**self.worker_env, "BAGMCP_DATA_DIR": str(self.logs.parent / name)}
+        proc = self.exits.enter_context(service(name, command, env=env, log_dir=self.logs))
+        self.workers.append((of, proc))
         return proc
+
+    def latest_worker(self, of: str = "bag-store") -> subprocess.Popen[bytes]:
+        return [proc for name, proc in self.workers if name == of][-1]
 
     def kill_worker(self, proc: subprocess.Popen[bytes]) -> None:
         os.killpg(proc.pid, signal.SIGKILL)
@@ -88,11 +93,12 @@ class Stack:
 
 
 def start_stack(redis_url: str, s3: S3Endpoint, work: Path, exits: ExitStack) -> Stack:
-    logs, store_data, worker_data = (work / n for n in ("logs", "bag-store", "worker"))
-    for directory in (logs, store_data, worker_data):
+    logs, store_data = work / "logs", work / "bag-store"
+    for directory in (logs, store_data):
         directory.mkdir(parents=True)
     bucket = f"stack-{free_port()}"
-    store_port, gateway_port = free_port(), free_port()
+    ports = dict(zip([*SERVICES, "gateway"], free_ports(len(SERVICES) + 1), strict=True))
+    gateway_url = f"http://127.0.0.1:{ports['gateway']}"
     common = {
         "BAGMCP_REDIS_URL": redis_url,
         "BAGMCP_S3_ENDPOINT": s3.endpoint,
@@ -103,42 +109,52 @@ def start_stack(redis_url: str, s3: S3Endpoint, work: Path, exits: ExitStack) ->
         "BAGMCP_JOB_BUDGET_S": str(JOB_BUDGET_S),
         "BAGMCP_S3_READ_TIMEOUT_S": "4",
         "BAGMCP_TASK_VISIBILITY_TIMEOUT_S": str(VISIBILITY_TIMEOUT_S),
+        "BAGMCP_ARTIFACT_BASE_URL": gateway_url,
     }
-    store_url = f"http://127.0.0.1:{store_port}"
-    exits.enter_context(
-        service(
-            "bag-store",
-            [str(BIN / "python"), "-m", "bagmcp_bag_store"],
-            log_dir=logs,
-            ready=http_ok(f"{store_url}/healthz"),
-            env={**common, "BAGMCP_PORT": str(store_port), "BAGMCP_DATA_DIR": str(store_data)},
+    urls = {name: f"http://127.0.0.1:{ports[name]}" for name in SERVICES}
+    for name, package in SERVICES.items():
+        data = store_data if name == "bag-store" else work / name
+        exits.enter_context(
+            service(
+                name,
+                [str(BIN / "python"), "-m", package],
+                log_dir=logs,
+                ready=http_ok(f"{urls[name]}/healthz"),
+                env={**common, "BAGMCP_PORT": str(ports[name]), "BAGMCP_DATA_DIR": str(data)},
+            )
         )
-    )
-    stack = Stack(
-        f"http://127.0.0.1:{gateway_port}",
-        store_url,
-        s3,
-        bucket,
-        logs,
-        store_data,
-        {**common, "BAGMCP_DATA_DIR": str(worker_data)},
-        exits,
-    )
-    stack.start_worker()
-    gateway_env = {
+    stack = Stack(gateway_url, urls["bag-store"], s3, bucket, logs, store_data, dict(common), exits, redis_url, urls)
+    for name in SERVICES:
+        stack.start_worker(name)
+    exits.enter_context(run_gateway(stack, "gateway", ports["gateway"], {}))
+    return stack
+
+
+def gateway_env(stack: Stack, port: int, extra: dict[str, str]) -> dict[str, str]:
+    """The environment of a gateway over the stack's three services (``extra`` overrides it)."""
+    urls = stack.service_urls
+    return {
         "BAGMCP_SERVICE_TOKEN": SERVICE_TOKEN,
         "BAGMCP_TOKENS": f"{TOKEN},{OTHER_TOKEN}",
-        "BAGMCP_PORT": str(gateway_port),
-        "BAGMCP_UPSTREAMS": f"bag-store={store_url}/mcp",
-        "BAGMCP_BAG_STORE_URL": store_url,
+        "BAGMCP_PORT": str(port),
+        "BAGMCP_UPSTREAMS": ",".join(f"{name}={url}/mcp" for name, url in urls.items()),
+        "BAGMCP_REST_ROUTES": f"bags={urls['bag-store']},artifacts={urls['plotting']}",
+        "BAGMCP_REDIS_URL": stack.redis_url,
+        "BAGMCP_RATE_LIMIT_PER_S": "1000",
+        "BAGMCP_RATE_BURST": "1000",
+        "BAGMCP_UPSTREAM_POLL_S": "1",
+        **extra,
     }
-    exits.enter_context(
-        service(
-            "gateway",
-            [str(BIN / "bagmcp"), "gateway"],
-            env=gateway_env,
-            log_dir=logs,
-            ready=http_ok(f"{stack.url}/readyz"),
-        )
+
+
+def run_gateway(
+    stack: Stack, name: str, port: int, extra: dict[str, str]
+) -> AbstractContextManager[subprocess.Popen[bytes]]:
+    """A gateway process over the stack's services (another replica, or one with other settings)."""
+    return service(
+        name,
+        [str(BIN / "python"), "-m", "bagmcp_gateway"],
+        env=gateway_env(stack, port, extra),
+        log_dir=stack.logs,
+        ready=http_ok(f"http://127.0.0.1:{port}/readyz"),
     )
-    return stack

@@ -11,11 +11,11 @@ from pathlib import Path
 import httpx
 import pytest
 
+from tests.checks.first_tools import check_first_tools
 from tests.fixtures.bagfactory import BagKind
 from tests.fixtures.mcp_client import http_client
 from tests.fixtures.processes import wait_until
 from tests.integration.conftest import SCENARIO_NAMES
-from tests.integration.first_tools import check_first_tools
 from tests.integration.stack import SERVICE_TOKEN, TOKEN, Stack
 
 pytestmark = pytest.mark.anyio

@@ -11,11 +11,11 @@ import httpx
 import pytest
 from mcp import Client, StdioServerParameters
 
+from tests.checks.first_tools import check_first_tools
 from tests.fixtures.bagfactory import BagKind
 from tests.fixtures.mcp_client import call, http_client
-from tests.fixtures.processes import BIN, http_ok, service
+from tests.fixtures.processes import BIN, http_ok, service, wait_until
 from tests.fixtures.servers import free_port
-from tests.integration.first_tools import check_first_tools
 
 pytestmark = pytest.mark.anyio
 NAMES = ["scenario", "scenario_db3", "scenario_mcap"]
@@ -29,6 +29,7 @@ def bag_folder(scenario_bags: dict[BagKind, Path], tmp_path_factory: pytest.Temp
     (folder / "notes.txt").write_text("not a bag")
     (folder / "empty.bag").write_bytes(b"")
     (folder / "fake.mcap").write_text("just text pretending to be a recording")
+    (folder / "flight.ulg").write_bytes(b"ULog\x01\x12\x35\x01" + bytes(64))  # a PX4 log header
     return folder
 
 
@@ -85,6 +86,8 @@ def test_serve_lists_bags_over_rest_and_refuses_uploads_to_a_read_only_folder(se
     assert status["fake"][0] == "failed"
     assert "not a ROS bag" in status["fake"][1]
     assert "notes" not in status
+    assert status["flight"][0] == "failed"
+    assert "PX4 ULog" in status["flight"][1]
     refused = httpx.post(f"{served}/api/v1/bags", params={"filename": "x.bag"}, content=b"#ROSBAG V2.0\n")
     assert refused.status_code == 405
     assert refused.json()["error"]["code"] == "read_only"
@@ -103,6 +106,33 @@ def test_serve_with_a_token_rejects_calls_without_it(bag_folder: Path, tmp_path:
         anonymous = httpx.post(f"http://127.0.0.1:{port}/mcp", json={"jsonrpc": "2.0", "id": 1, "method": "tools/list"})
         assert anonymous.status_code == 401
         assert "resource_metadata" in anonymous.headers["www-authenticate"]
-        assert httpx.get(f"http://127.0.0.1:{port}/api/v1/bags").status_code == 401
+        assert anonymous.json()["error"]["code"] == "unauthorized"  # the one error shape, 401 included
+        rest = httpx.get(f"http://127.0.0.1:{port}/api/v1/bags")
+        assert rest.status_code == 401
+        assert rest.json()["error"]["code"] == "unauthorized"
+        assert rest.headers["www-authenticate"].startswith("Bearer")
         authorized = httpx.get(f"http://127.0.0.1:{port}/api/v1/bags", headers={"Authorization": "Bearer t0k"})
         assert authorized.status_code == 200
+
+
+def test_serve_answers_at_once_and_hashes_a_large_folder_in_the_background(tmp_path: Path) -> None:
+    folder = tmp_path / "bags"
+    folder.mkdir()
+    huge = folder / "huge.bag"
+    with huge.open("wb") as file:  # a sparse 3 GiB file that starts like a ROS 1 bag: hashing it takes seconds
+        file.write(b"#ROSBAG V2.0\n")
+        file.truncate(3 << 30)
+    port = free_port()
+    url = f"http://127.0.0.1:{port}"
+    with service(
+        "serve-huge", _serve(folder, port, tmp_path / "data"), env={}, log_dir=tmp_path, ready=http_ok(f"{url}/healthz")
+    ):
+        listed = httpx.get(f"{url}/api/v1/bags/huge").json()
+        assert listed["status"] == "ingesting"
+        assert listed["sha256"] == ""  # listed before its content was hashed
+        wait_until(
+            lambda: httpx.get(f"{url}/api/v1/bags/huge").json()["status"] == "failed", timeout_s=120, what="ingest"
+        )
+        done = httpx.get(f"{url}/api/v1/bags/huge").json()
+        assert len(done["sha256"]) == 64  # hashed in the background, then refused with the reason
+        assert done["error"]

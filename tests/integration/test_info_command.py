@@ -30,7 +30,7 @@ def test_info_json_reports_counts_duration_and_topics_of_a_generated_bag(scenari
         "nav_msgs/msg/Odometry",
         sc.COUNTS[sc.ODOM_TOPIC],
     )
-    assert info["start"]["epoch_ns"] == sc.START_NS
+    assert info["start_ns"] == sc.START_NS
 
 
 def test_info_text_names_format_and_topics(scenario_bag: Path) -> None:

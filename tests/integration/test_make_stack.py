@@ -16,7 +16,7 @@ import pytest
 from tests.fixtures.bagfactory import BagKind
 from tests.fixtures.mcp_client import call, http_client
 from tests.fixtures.processes import BIN, http_ok, wait_until
-from tests.fixtures.servers import free_port
+from tests.fixtures.servers import free_port, free_ports
 
 ROOT = Path(__file__).resolve().parents[2]
 TOKEN = "stack-test-token"
@@ -59,7 +59,8 @@ def _s3_base_port(taken: set[int]) -> int:
 
 def test_make_stack_serves_uploads_and_stops_on_ctrl_c(scenario_bags: dict[BagKind, Path], tmp_path: Path) -> None:
     stack_dir = tmp_path / "stack"
-    ports = {"GATEWAY_PORT": free_port(), "BAG_STORE_PORT": free_port(), "REDIS_PORT": free_port()}
+    names = ("GATEWAY_PORT", "BAG_STORE_PORT", "ANALYSIS_PORT", "PLOTTING_PORT", "REDIS_PORT")
+    ports = dict(zip(names, free_ports(len(names)), strict=True))
     s3_port = _s3_base_port(set(ports.values()))
     env = {
         **os.environ,
@@ -76,7 +77,8 @@ def test_make_stack_serves_uploads_and_stops_on_ctrl_c(scenario_bags: dict[BagKi
     url = f"http://127.0.0.1:{ports['GATEWAY_PORT']}"
     try:
         wait_until(http_ok(f"{url}/readyz"), timeout_s=90, what="the stack's gateway")
-        assert len(_session_members(proc.pid)) >= 6  # honcho, redis, weed, bag-store, worker, gateway
+        # honcho, redis, weed, three services, three workers, gateway
+        assert len(_session_members(proc.pid)) >= 10
         upload = subprocess.run(
             [str(BIN / "bagmcp"), "upload", str(scenario_bags["ros2-mcap"]), "--url", url, "--token", TOKEN],
             capture_output=True,

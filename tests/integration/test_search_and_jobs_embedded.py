@@ -11,21 +11,24 @@ import anyio
 import pytest
 from mcp import Client
 
+from bagmcp_bag_store.embedded import start_embedded
 from bagmcp_bag_store.filtering import filter_bag
-from bagmcp_bag_store.search import search_messages
-from bagmcp_bag_store.wiring import folder_deps
+from bagmcp_bag_store.job_kinds import FilterParams, SearchParams
+from bagmcp_bag_store.query.search import search_messages
+from bagmcp_shared.jobs import Unreported
+from bagmcp_shared.resources import embedded_resources
+from tests.checks.search_checks import (
+    check_cancel_stops_a_running_job,
+    check_search,
+    check_slow_search_becomes_a_job_with_progress,
+    finished,
+)
 from tests.fixtures import scenario as sc
 from tests.fixtures.bagfactory import BagKind, write_chatter_bag
 from tests.fixtures.mcp_client import call, http_client
 from tests.fixtures.processes import BIN, http_ok, service, wait_until
 from tests.fixtures.servers import free_port
 from tests.integration.bag_downloads import download_info
-from tests.integration.search_checks import (
-    check_cancel_stops_a_running_job,
-    check_search,
-    check_slow_search_becomes_a_job_with_progress,
-    finished,
-)
 
 pytestmark = pytest.mark.anyio
 BAGS = ["scenario", "scenario_db3", "scenario_mcap"]
@@ -101,16 +104,18 @@ def _strip(result: dict[str, Any]) -> dict[str, Any]:
     ],
 )
 def test_index_and_bag_give_identical_search_results(folder: Path, tmp_path: Path, params: dict[str, Any]) -> None:
-    deps, runner = folder_deps(folder, data_dir=tmp_path / "data")
-    wait_until(lambda: all(r.status != "ingesting" for r in deps.catalog.all()), timeout_s=120, what="ingest")
+    embedded = embedded_resources(folder, tmp_path / "data")
+    start_embedded(embedded)
+    res = embedded.resources
+    wait_until(lambda: all(r.status != "ingesting" for r in res.catalog.all()), timeout_s=120, what="ingest")
     for bag in BAGS:
-        request = {"bag": bag, **params}
-        indexed = search_messages(deps, request, lambda f, m: None, use_index=True).model_dump(mode="json")
-        decoded = search_messages(deps, request, lambda f, m: None, use_index=False).model_dump(mode="json")
-        assert (indexed["source"], decoded["source"]) == ("index", "bag")
-        assert _strip(indexed) == _strip(decoded)
-        assert indexed["total"] > 0
-    runner.shutdown()
+        request = SearchParams.model_validate({"bag": bag, **params})
+        indexed = search_messages(res.access, request, Unreported(), budget_bytes=16_000, use_index=True)
+        decoded = search_messages(res.access, request, Unreported(), budget_bytes=16_000, use_index=False)
+        assert (indexed.source, decoded.source) == ("index", "bag")
+        assert _strip(indexed.model_dump(mode="json")) == _strip(decoded.model_dump(mode="json"))
+        assert indexed.total > 0
+    embedded.runner.shutdown()
 
 
 async def test_filter_bag_on_the_embedded_server_stores_the_new_bag_outside_the_folder(
@@ -135,15 +140,20 @@ async def test_filter_bag_on_the_embedded_server_stores_the_new_bag_outside_the_
 
 
 def test_bags_made_by_filter_bag_are_listed_again_after_a_restart(folder: Path, tmp_path: Path) -> None:
-    deps, runner = folder_deps(folder, data_dir=tmp_path / "data")
-    wait_until(lambda: all(r.status != "ingesting" for r in deps.catalog.all()), timeout_s=120, what="ingest")
-    made = filter_bag(deps, {"bag": "scenario", "include_topics": ["/cmd_vel"], "name": "cmd-only"}, lambda f, m: None)
-    runner.shutdown()
-    again, runner = folder_deps(folder, data_dir=tmp_path / "data")
-    wait_until(lambda: all(r.status != "ingesting" for r in again.catalog.all()), timeout_s=120, what="ingest")
-    record = again.catalog.get(made.bag_id)
+    first = embedded_resources(folder, tmp_path / "data")
+    work = start_embedded(first).work
+    res = first.resources
+    wait_until(lambda: all(r.status != "ingesting" for r in res.catalog.all()), timeout_s=120, what="ingest")
+    params = FilterParams(bag="scenario", include_topics=["/cmd_vel"], name="cmd-only")
+    made = filter_bag(res.access, work.shelf, work.ingestor, params, Unreported())
+    first.runner.shutdown()
+    again = embedded_resources(folder, tmp_path / "data")
+    start_embedded(again)
+    catalog = again.resources.catalog
+    wait_until(lambda: all(r.status != "ingesting" for r in catalog.all()), timeout_s=120, what="ingest")
+    record = catalog.get(made.bag_id)
     assert record is not None
     assert (record.name, record.status) == ("cmd-only", "ready")
-    topics: Any = record.summary_value("topics")
-    assert [t["count"] for t in topics] == [sc.COUNTS["/cmd_vel"]]
-    runner.shutdown()
+    assert record.summary is not None
+    assert [t.count for t in record.summary.topics] == [sc.COUNTS["/cmd_vel"]]
+    again.runner.shutdown()

@@ -12,34 +12,26 @@ import anyio
 import pytest
 from mcp import Client
 
-from tests.fixtures import scenario as sc
-from tests.fixtures.bagfactory import BagKind, write_chatter_bag
-from tests.fixtures.mcp_client import call, call_error, http_client
-from tests.integration.bag_downloads import download_info
-from tests.integration.conftest import SCENARIO_NAMES
-from tests.integration.search_checks import (
+from tests.checks.search_checks import (
     check_cancel_stops_a_running_job,
     check_search,
     check_slow_search_becomes_a_job_with_progress,
     finished,
 )
+from tests.fixtures import scenario as sc
+from tests.fixtures.bagfactory import BagKind
+from tests.fixtures.mcp_client import call, call_error, http_client
+from tests.integration.bag_downloads import download_info
+from tests.integration.conftest import CHATTER_MESSAGES, SCENARIO_NAMES
 from tests.integration.stack import OTHER_TOKEN, TOKEN, Stack
 
 pytestmark = pytest.mark.anyio
-CHATTER_MESSAGES = 300_000
 
 
 @asynccontextmanager
 async def client_of(stack: Stack) -> AsyncIterator[Client]:
     async with http_client(f"{stack.url}/mcp", TOKEN) as client:
         yield client
-
-
-@pytest.fixture(scope="module")
-def chatter(stack: Stack, tmp_path_factory: pytest.TempPathFactory) -> str:
-    answer = stack.upload_ok(write_chatter_bag(tmp_path_factory.mktemp("chatter"), count=CHATTER_MESSAGES))
-    anyio.run(stack.wait_ready, [answer["name"]])
-    return str(answer["name"])
 
 
 async def test_search_answers_on_three_formats_through_the_gateway(
@@ -140,12 +132,12 @@ async def test_a_worker_killed_mid_filter_leaves_no_half_bag_and_the_job_is_rede
                 assert job["state"] in ("queued", "running"), job
                 await anyio.sleep(0.05)
         before = stack.objects()
-        stack.kill_worker(stack.workers[-1])
+        stack.kill_worker(stack.latest_worker())
         listing = await call(client, "list_bags", name=name)
         assert listing["total"] == 0
         assert stack.objects() == before
         stack.start_worker()
-        result = await finished(client, {"job": {"job_id": job_id}, "result": None}, timeout_s=120)
+        result = await finished(client, {"job": {"job_id": job_id}}, timeout_s=120)
         assert result["counts"] == {"/chatter": CHATTER_MESSAGES}
         listing = await call(client, "list_bags", name=name)
         assert [b["name"] for b in listing["bags"]] == [name]

@@ -11,8 +11,9 @@ import anyio
 import pytest
 from mcp import Client
 
+from bagmcp_cli.embedded import compose
+from bagmcp_cli.settings import EmbeddedSettings
 from bagmcp_gateway.aggregator import build_gateway_server
-from bagmcp_gateway.embedded import embed
 from tests.fixtures.mcp_client import call, text_of
 
 pytestmark = [pytest.mark.anyio, pytest.mark.corpus]
@@ -28,29 +29,60 @@ async def _ready(client: Client) -> list[dict[str, Any]]:
             await anyio.sleep(0.2)
 
 
+PER_TOPIC: tuple[tuple[str, dict[str, Any]], ...] = (
+    ("describe_topic", {}),
+    ("get_message_at_time", {"time": "middle"}),
+    ("get_messages_in_range", {"max_messages": 5}),
+    ("topic_statistics", {}),
+)
+PER_BAG: tuple[tuple[str, dict[str, Any]], ...] = (
+    ("analyze_trajectory", {}),
+    ("analyze_lidar_scan", {"within": 0.5}),
+    ("analyze_logs", {"limit": 5}),
+    ("get_tf_tree", {}),
+    ("summarize_window", {}),
+)
+IMAGE_TYPES = ("sensor_msgs/msg/Image", "sensor_msgs/msg/CompressedImage")
+
+
+def _explained(tool: str, text: str) -> bool:
+    return text.strip() != f"Error executing tool {tool}"
+
+
 async def test_no_tool_call_on_the_corpus_fails_without_a_reason(corpus: Path, tmp_path: Path) -> None:
-    embedded = embed(corpus, tmp_path / "data")
+    composition = compose(EmbeddedSettings(corpus, tmp_path / "data"))
     unexplained: list[str] = []
     calls = 0
-    async with Client(build_gateway_server(embedded.upstreams), cache=None) as client:
+    async with Client(build_gateway_server(composition.upstreams), cache=None) as client:
+
+        async def ask(label: str, tool: str, arguments: dict[str, Any]) -> None:
+            nonlocal calls
+            result = await client.call_tool(tool, arguments)
+            calls += 1
+            text = text_of(result)
+            if result.is_error and not _explained(tool, text):
+                unexplained.append(f"{label} {tool}")
+            assert len(text) < BUDGET_BYTES, (label, tool, len(text))
+
         for bag in await _ready(client):
             if bag["status"] != "ready":
                 assert bag["error"], bag
                 continue
             info = (await client.call_tool("bag_info", {"bag": bag["id"]})).structured_content
             assert info is not None
+            middle = info["duration_s"] / 2
             for topic in info["topics"]:
-                for tool, extra in (
-                    ("describe_topic", {}),
-                    ("get_message_at_time", {"time": info["duration_s"] / 2}),
-                    ("get_messages_in_range", {"max_messages": 5}),
-                ):
-                    result = await client.call_tool(tool, {"bag": bag["id"], "topic": topic["name"], **extra})
-                    calls += 1
-                    text = text_of(result)
-                    if result.is_error and text.strip() == f"Error executing tool {tool}":
-                        unexplained.append(f"{bag['name']} {topic['name']} {tool}")
-                    assert len(text) < BUDGET_BYTES, (bag["name"], topic["name"], tool, len(text))
-    embedded.runner.shutdown()
-    assert calls > 300
+                for tool, extra in PER_TOPIC:
+                    arguments = {k: middle if v == "middle" else v for k, v in extra.items()}
+                    await ask(
+                        f"{bag['name']} {topic['name']}", tool, {"bag": bag["id"], "topic": topic["name"], **arguments}
+                    )
+                if topic["type"] in IMAGE_TYPES:
+                    await ask(
+                        bag["name"], "get_image_at_time", {"bag": bag["id"], "topic": topic["name"], "time": middle}
+                    )
+            for tool, extra in PER_BAG:
+                await ask(bag["name"], tool, {"bag": bag["id"], **extra})
+    composition.embedded.runner.shutdown()
+    assert calls > 500
     assert unexplained == []

@@ -1,62 +1,36 @@
-"""REST routes under /api/v1 (thin adapters) and the one place errors become HTTP responses."""
+"""REST routes under /api/v1: thin adapters over upload, catalog queries, download and delete."""
 
 from __future__ import annotations
 
 import tarfile
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Annotated
 
 import anyio
-from fastapi import APIRouter, FastAPI, Query, Request
+from fastapi import APIRouter, Query, Request
 from fastapi.responses import FileResponse, JSONResponse, Response, StreamingResponse
 
-from bagmcp_bag_store import queries
-from bagmcp_bag_store.catalog import resolve_bag
-from bagmcp_bag_store.deps import BagStoreDeps
-from bagmcp_bag_store.errors import (
-    AmbiguousBagError,
-    ArgumentError,
-    BagNotFoundError,
-    BagNotReadyError,
-    NameTakenError,
-    ReadOnlyError,
-    UploadError,
-    UploadTooLargeError,
-)
-from bagmcp_bag_store.models import BagRecord
+from bagmcp_bag_store.errors import ReadOnlyError
+from bagmcp_bag_store.ingest.shelf import Shelf
+from bagmcp_bag_store.ingest.upload import receive, store_upload
+from bagmcp_bag_store.query import catalog_queries
 from bagmcp_bag_store.results import BagList
-from bagmcp_bag_store.upload import delete_bag, receive, store_upload
-from bagmcp_shared.errors import BagError, BagmcpError, StorageError, TimeError, TopicNotFoundError
-
-_STATUS: list[tuple[type[BagmcpError], int, str]] = [
-    (BagNotFoundError, 404, "bag_not_found"),
-    (TopicNotFoundError, 404, "topic_not_found"),
-    (AmbiguousBagError, 409, "ambiguous_bag"),
-    (NameTakenError, 409, "name_taken"),
-    (UploadTooLargeError, 413, "upload_too_large"),
-    (UploadError, 400, "bad_upload"),
-    (BagError, 422, "invalid_bag"),
-    (ReadOnlyError, 405, "read_only"),
-    (BagNotReadyError, 409, "bag_not_ready"),
-    (ArgumentError, 400, "bad_argument"),
-    (TimeError, 400, "bad_time"),
-    (StorageError, 503, "storage_unavailable"),
-]
+from bagmcp_shared.access import BagAccess
+from bagmcp_shared.catalog import BagRecord, exact_bag, resolve_bag
 
 
-def error_response(err: BagmcpError) -> JSONResponse:
-    """``{"error": {"code", "message"}}`` with the status that fits the error."""
-    status, code = next(((s, c) for t, s, c in _STATUS if isinstance(err, t)), (400, "error"))
-    return JSONResponse({"error": {"code": code, "message": str(err)}}, status_code=status)
+@dataclass(frozen=True)
+class UploadPolicy:
+    """``uploads`` False refuses uploads (an embedded server over a read-only folder: only the bags it
+    made itself can be deleted)."""
 
-
-def install_error_handler(app: FastAPI) -> None:
-    async def handle(_request: Request, err: Exception) -> Response:
-        assert isinstance(err, BagmcpError)
-        return error_response(err)
-
-    app.add_exception_handler(BagmcpError, handle)
+    shelf: Shelf
+    queue_ingest: Callable[[str], None]
+    upload_dir: Path
+    max_upload_bytes: int
+    uploads: bool = True
 
 
 def _tar_stream(root: Path) -> Iterator[bytes]:
@@ -74,28 +48,31 @@ def _tar_stream(root: Path) -> Iterator[bytes]:
     yield b"\0" * (2 * tarfile.BLOCKSIZE)
 
 
-def build_router(deps: BagStoreDeps, *, upload_dir: Path, max_upload_bytes: int) -> APIRouter:
+def _uploadable(policy: UploadPolicy) -> Shelf:
+    if not policy.uploads:
+        raise ReadOnlyError("this server serves a read-only folder of bags; uploads are disabled")
+    return policy.shelf
+
+
+def build_router(access: BagAccess, policy: UploadPolicy) -> APIRouter:
     router = APIRouter(prefix="/api/v1")
 
     @router.post("/bags", status_code=201)
     async def upload(
-        request: Request,
-        filename: str,
-        name: str | None = None,
-        tags: Annotated[list[str] | None, Query()] = None,
+        request: Request, filename: str, name: str | None = None, tags: Annotated[list[str] | None, Query()] = None
     ) -> JSONResponse:
-        if deps.store is None or not deps.uploads:
-            raise ReadOnlyError("this server serves a read-only folder of bags; uploads are disabled")
-        received = await receive(request.stream(), upload_dir, max_bytes=max_upload_bytes)
+        shelf = _uploadable(policy)
+        received = await receive(request.stream(), policy.upload_dir, max_bytes=policy.max_upload_bytes)
         record, created = await anyio.to_thread.run_sync(
             lambda: store_upload(
-                deps,
+                shelf,
+                policy.queue_ingest,
                 received,
                 filename=filename,
                 name=name,
                 tags=tags or [],
-                staging_root=upload_dir,
-                max_bytes=max_upload_bytes,
+                staging_root=policy.upload_dir,
+                max_bytes=policy.max_upload_bytes,
             )
         )
         body = {"bag": record.model_dump(mode="json", exclude={"summary"}), "duplicate": not created}
@@ -103,16 +80,16 @@ def build_router(deps: BagStoreDeps, *, upload_dir: Path, max_upload_bytes: int)
 
     @router.get("/bags")
     def list_all(name: str | None = None, tag: str | None = None, offset: int = 0, limit: int = 50) -> BagList:
-        return queries.list_bags(deps, name=name, tag=tag, offset=offset, limit=limit)
+        return catalog_queries.list_bags(access.catalog, name=name, tag=tag, offset=offset, limit=limit)
 
     @router.get("/bags/{ref}")
     def get_one(ref: str) -> BagRecord:
-        return resolve_bag(deps.catalog, ref)
+        return resolve_bag(access.catalog, ref)
 
     @router.get("/bags/{ref}/download")
     def download(ref: str) -> Response:
-        record = resolve_bag(deps.catalog, ref)
-        path = deps.files.path_for(record)
+        record = resolve_bag(access.catalog, ref)
+        path = access.files.path_for(record)
         if path.is_file():
             return FileResponse(path, filename=path.name, media_type="application/octet-stream")
         headers = {"Content-Disposition": f'attachment; filename="{record.name}.tar"'}
@@ -120,7 +97,9 @@ def build_router(deps: BagStoreDeps, *, upload_dir: Path, max_upload_bytes: int)
 
     @router.delete("/bags/{ref}", status_code=204)
     def delete(ref: str) -> Response:
-        delete_bag(deps, resolve_bag(deps.catalog, ref))
+        record = exact_bag(access.catalog, ref)
+        policy.shelf.remove(record)
+        access.cache.discard(record.id)
         return Response(status_code=204)
 
     return router

@@ -1,20 +1,9 @@
-"""Bag-store errors; mapped to HTTP in api.py and to MCP tool errors in tools.py, nowhere else."""
+"""Bag-store errors; mapped to HTTP in api.py's status table and to tool errors by the kit."""
 
 from __future__ import annotations
 
+from bagmcp_kit.http_errors import StatusTable
 from bagmcp_shared.errors import BagmcpError
-
-
-class BagNotFoundError(BagmcpError):
-    """No bag matches the id, name or prefix the caller gave."""
-
-
-class AmbiguousBagError(BagmcpError):
-    """A prefix matches more than one bag."""
-
-
-class NameTakenError(BagmcpError):
-    """Another bag already has this name."""
 
 
 class UploadError(BagmcpError):
@@ -29,9 +18,8 @@ class ReadOnlyError(BagmcpError):
     """The store serves a read-only folder; uploads and deletes are refused."""
 
 
-class BagNotReadyError(BagmcpError):
-    """The bag is still being ingested, or its ingest failed."""
-
-
-class ArgumentError(BagmcpError):
-    """A tool or route argument is out of range or of the wrong kind."""
+STATUSES: StatusTable = [
+    (UploadTooLargeError, 413, "upload_too_large"),
+    (UploadError, 400, "bad_upload"),
+    (ReadOnlyError, 405, "read_only"),
+]

@@ -1,20 +1,15 @@
-"""Output schemas of the bag-store tools (MCP structured content)."""
+"""Output schemas of the bag-store tools (MCP structured content). Times are ``Instant``s; the clock
+is stated where a time could be read on more than one."""
 
 from __future__ import annotations
 
 from typing import Literal
 
-from pydantic import BaseModel, JsonValue
+from pydantic import BaseModel, Field, JsonValue
+
+from bagmcp_shared.timebase import Instant
 
 Clock = Literal["log_time"]
-
-
-class Instant(BaseModel):
-    """One instant: seconds from the bag start, absolute epoch seconds, ISO-8601 UTC."""
-
-    offset_s: float
-    stamp_s: float
-    iso: str
 
 
 class BagBrief(BaseModel):
@@ -22,8 +17,9 @@ class BagBrief(BaseModel):
 
     id: str
     name: str
-    status: str
+    status: str = Field(description="ready, ingesting or failed")
     error: str | None = None
+    progress: float | None = Field(default=None, description="ingest progress 0..1 while ingesting")
     format: str | None
     size_bytes: int
     duration_s: float | None
@@ -41,16 +37,14 @@ class BagList(BaseModel):
 
 
 class TopicInfo(BaseModel):
-    """``rate_hz`` is from log (receive) times; ``header_rate_hz`` from header stamps where the type
-    has them and they are sane (indexed types)."""
-
     name: str
     type: str
     count: int
-    rate_hz: float | None
-    header_rate_hz: float | None = None
+    rate_hz: float | None = Field(description="from log (receive) times")
+    header_rate_hz: float | None = Field(default=None, description="from header stamps, where present and sane")
     first: Instant | None
     last: Instant | None
+    note: str | None = Field(default=None, description="why a number here looks odd")
 
 
 class BagInfo(BaseModel):
@@ -79,7 +73,7 @@ class TopicDescription(BaseModel):
     topic: str
     type: str
     count: int
-    rate_hz: float | None
+    rate_hz: float | None = Field(description="from log times")
     fields: list[FieldInfo]
     fields_truncated: bool
     sample: JsonValue
@@ -87,8 +81,8 @@ class TopicDescription(BaseModel):
 
 
 class MessageOut(BaseModel):
-    time: Instant
-    header_stamp_s: float | None
+    time: Instant = Field(description="log time")
+    header_stamp_s: float | None = Field(description="header.stamp, epoch s")
     data: JsonValue
 
 
@@ -97,21 +91,28 @@ class MessageAtTime(BaseModel):
     topic: str
     requested: Instant
     clock: Clock
-    delta_s: float
+    delta_s: float = Field(description="message time minus requested time")
     message: MessageOut
 
 
 class MessageRange(BaseModel):
+    """``messages`` (layout messages), or ``t`` and ``columns`` (layout columns: one list per field)."""
+
     bag: str
     topic: str
     start: Instant
     end: Instant
     clock: Clock
-    total: int
+    total: int = Field(description="messages in the whole window")
     returned: int
     truncated: bool
     next_cursor: str | None
     messages: list[MessageOut]
+    t: list[float | int] | None = Field(default=None, description="s from bag start, to 1 ms (layout columns)")
+    digits: int | None = Field(default=None, description="significant digits of the column values")
+    columns: dict[str, list[float | int | None]] | None = Field(default=None, description="one list per field")
+    downsampled: bool = Field(default=False, description="fewer points than messages; extremes kept")
+    notes: list[str] = Field(default_factory=list)
 
 
 class Correlated(BaseModel):
@@ -119,21 +120,22 @@ class Correlated(BaseModel):
 
     topic: str
     time: Instant
-    delta_s: float
+    delta_s: float = Field(description="its time minus the match's time")
     data: JsonValue
 
 
 class SearchMatch(BaseModel):
     time: Instant
     value: JsonValue
+    details: dict[str, JsonValue] | None = Field(default=None, description="for logs: level name, node, text")
     distance_m: float | None = None
     correlated: Correlated | None = None
 
 
 class ClosestApproach(BaseModel):
     distance_m: float
-    x: float
-    y: float
+    x: float = Field(description="m")
+    y: float = Field(description="m")
     time: Instant
 
 
@@ -141,12 +143,12 @@ class SearchResult(BaseModel):
     bag: str
     topic: str
     condition: str
-    field: str | None
+    field: str | None = Field(description="the message path tested")
     start: Instant
     end: Instant
     clock: Clock
-    scanned: int
-    total: int
+    scanned: int = Field(description="messages in the window")
+    total: int = Field(description="messages that match")
     returned: int
     truncated: bool
     matches: list[SearchMatch]
@@ -154,38 +156,10 @@ class SearchResult(BaseModel):
     source: Literal["index", "bag"]
 
 
-class JobInfo(BaseModel):
-    """A job as get_job reports it; ``result`` is set once it succeeded."""
-
-    job_id: str
-    kind: str
-    state: str
-    progress: float
-    message: str
-    error: str | None
-    result: JsonValue
-    created_at: float
-    updated_at: float
-
-
-class SearchAnswer(BaseModel):
-    """``result`` when the search finished within the time budget; otherwise follow ``job``."""
-
-    job: JobInfo
-    result: SearchResult | None
-
-
 class FilterResult(BaseModel):
     bag_id: str
     name: str
     format: str
-    counts: dict[str, int]
+    counts: dict[str, int] = Field(description="messages per topic")
     message_count: int
-    created: bool
-
-
-class FilterAnswer(BaseModel):
-    """``result`` when the new bag was written within the time budget; otherwise follow ``job``."""
-
-    job: JobInfo
-    result: FilterResult | None
+    created: bool = Field(description="false when the same bag existed already")

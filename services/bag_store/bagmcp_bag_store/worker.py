@@ -1,25 +1,22 @@
-"""The Celery worker entry point: ``celery -A bagmcp_bag_store.worker:app worker``.
-
-Settings come from the environment (BAGMCP_*); dependencies are built on the first task.
-"""
+"""The Celery worker entry point: ``celery -A bagmcp_bag_store.worker:app worker`` (takes only the
+bag_store queue: ingest and the bag-store's jobs). Settings come from BAGMCP_*; resources are built on
+the first task."""
 
 from __future__ import annotations
 
 import functools
 
-from bagmcp_bag_store.deps import BagStoreDeps
-from bagmcp_bag_store.settings import BagStoreSettings
-from bagmcp_bag_store.tasks import create_celery, register_tasks
-from bagmcp_bag_store.wiring import team_deps
-
-settings = BagStoreSettings.from_env()
-assert settings.redis_url is not None
-app = create_celery(settings.redis_url, visibility_timeout_s=settings.task_visibility_timeout_s)
+from bagmcp_bag_store.job_kinds import RUN_JOB
+from bagmcp_bag_store.tasks import register_ingest_task
+from bagmcp_bag_store.wiring import BagStoreWork, build_work
+from bagmcp_shared.jobs.worker import job_worker
+from bagmcp_shared.resources import Resources
 
 
 @functools.cache
-def _deps() -> BagStoreDeps:
-    return team_deps(settings, app)
+def _work(resources: Resources) -> BagStoreWork:
+    return build_work(resources)
 
 
-register_tasks(app, _deps)
+app, resources = job_worker(RUN_JOB, lambda res: _work(res).registry)
+register_ingest_task(app, lambda: _work(resources()).ingestor)

@@ -4,6 +4,7 @@ from bagmcp_shared.bags.decoding import Decoder
 from bagmcp_shared.bags.models import (
     BagFormat,
     BagSummary,
+    Compression,
     Connection,
     Encoding,
     RawMessage,
@@ -15,6 +16,7 @@ __all__ = [
     "BagFormat",
     "BagReader",
     "BagSummary",
+    "Compression",
     "Connection",
     "Decoder",
     "Encoding",

@@ -1,27 +1,29 @@
-"""MCAP files (bare or inside a ROS 2 bag directory), read with the ``mcap`` library.
+"""MCAP files (bare or inside a ROS 2 bag directory).
 
-With a summary section the file's chunk indexes serve topic and time queries. Without one
-(a recording that was cut off) the file is streamed: if the data ends on a record boundary
-everything is recovered and a note says so; if it ends inside a record the file is
-truncated, which is an error unless the caller asked to recover what precedes the cut.
+With a summary section the ``mcap`` library's chunk indexes serve topic and time queries.
+Without one (a recording that was cut off) the file is read from start to end (see
+``mcap_scan``): if the data ends on a record boundary everything is recovered and a note says
+so; if it ends inside a record the file is cut short, which is an error naming the cut record
+unless the caller asked to recover what precedes the cut (complete messages of a cut chunk too).
 """
 
 from __future__ import annotations
 
 import struct
 from collections.abc import Collection, Iterator, Sequence
-from dataclasses import dataclass, field
 from pathlib import Path
 from typing import BinaryIO
 
 from mcap.exceptions import McapError
 from mcap.reader import SeekingReader
-from mcap.records import Channel, Chunk, Message, Schema
-from mcap.stream_reader import StreamReader, breakup_chunk
+from mcap.records import Channel, Message, Schema
 from mcap.summary import Summary
 from rosbags.typesys.msg import normalize_msgtype
 
-from bagmcp_shared.bags.models import Connection, Encoding, RawMessage
+from bagmcp_shared.bags.mcap_cut_text import cut_error, cut_note
+from bagmcp_shared.bags.mcap_records import RecordError
+from bagmcp_shared.bags.mcap_scan import scan, stream
+from bagmcp_shared.bags.models import Compression, Connection, Encoding, RawMessage
 from bagmcp_shared.errors import DamagedBagError, UnsupportedFormatError
 
 _ENCODINGS = {"ros1": Encoding.ROS1, "cdr": Encoding.CDR}
@@ -47,37 +49,6 @@ def _connection(channel: Channel, schema: Schema | None, count: int) -> Connecti
     )
 
 
-@dataclass
-class _Scan:
-    """What one streaming pass over the file learned."""
-
-    schemas: dict[int, Schema] = field(default_factory=dict)
-    channels: dict[int, Channel] = field(default_factory=dict)
-    counts: dict[int, int] = field(default_factory=dict)
-    bounds: dict[int, tuple[int, int]] = field(default_factory=dict)
-    good_end: int = 0
-    clean: bool = True
-    error: str = ""
-
-    def add(self, msg: Message) -> None:
-        cid = msg.channel_id
-        self.counts[cid] = self.counts.get(cid, 0) + 1
-        lo, hi = self.bounds.get(cid, (msg.log_time, msg.log_time))
-        self.bounds[cid] = (min(lo, msg.log_time), max(hi, msg.log_time))
-
-
-def _stream_records(file: BinaryIO) -> Iterator[Schema | Channel | Message | int]:
-    """Top-level records in file order; yields the byte offset after each complete record."""
-    file.seek(0)
-    for record in StreamReader(file, emit_chunks=True).records:
-        end = file.tell()
-        items = breakup_chunk(record) if isinstance(record, Chunk) else [record]
-        for item in items:
-            if isinstance(item, Schema | Channel | Message):
-                yield item
-        yield end
-
-
 class McapSource:
     """One MCAP file."""
 
@@ -95,8 +66,10 @@ class McapSource:
         self._reader = reader
         if self._summary is not None:
             self._connections, self._bounds = self._from_summary(self._summary)
+            chunks = [index.compression for index in self._summary.chunk_indexes]
         else:
-            self._connections, self._bounds = self._from_scan(recover_truncated)
+            self._connections, self._bounds, chunks = self._from_scan(recover_truncated)
+        self._compression = Compression.of_chunks(chunks)
 
     def _read_summary(self, reader: SeekingReader) -> Summary | None:
         try:
@@ -128,54 +101,23 @@ class McapSource:
         ]
         return conns, {}
 
-    def _from_scan(self, recover: bool) -> tuple[list[Connection], dict[int, tuple[int, int]]]:
-        scan = self._scan()
-        self._good_end = scan.good_end
-        saved = sum(scan.counts.values())
-        if not scan.clean and (not recover or not saved):
-            rescue = (
-                f"{saved} messages before the cut can be recovered on request"
-                if saved
-                else "nothing before the cut is complete enough to recover"
-            )
-            raise DamagedBagError(
-                f"{self._path}: the MCAP file is truncated at byte {scan.good_end} of "
-                f"{self._path.stat().st_size} ({scan.error}); {rescue}"
-            )
-        total = sum(scan.counts.values())
-        if scan.clean:
+    def _from_scan(self, recover: bool) -> tuple[list[Connection], dict[int, tuple[int, int]], list[str]]:
+        found = scan(self._file, self._path.stat().st_size)
+        cut = found.cut
+        if cut is None:
             self._notes.append(
-                f"the MCAP file has no summary or index (recording cut off?); all {total} "
+                f"the MCAP file has no summary or index (recording cut off?); all {found.total} "
                 "messages were recovered by reading it from start to end"
             )
+        elif cut.after_data or (recover and found.total):
+            self._notes.append(cut_note(cut, found.channels))
         else:
-            self._notes.append(
-                f"the MCAP file is truncated at byte {scan.good_end}; {total} messages before "
-                "the cut were recovered, later ones are lost"
-            )
+            raise DamagedBagError(f"{self._path}: {cut_error(cut, found.channels)}")
         conns = [
-            _connection(ch, scan.schemas.get(ch.schema_id), scan.counts.get(ch.id, 0))
-            for ch in self._ros_channels(scan.channels)
+            _connection(ch, found.schemas.get(ch.schema_id), found.counts.get(ch.id, 0))
+            for ch in self._ros_channels(found.channels)
         ]
-        return conns, scan.bounds
-
-    def _scan(self) -> _Scan:
-        scan = _Scan()
-        try:
-            for item in _stream_records(self._file):
-                if isinstance(item, int):
-                    scan.good_end = item
-                elif isinstance(item, Schema):
-                    scan.schemas[item.id] = item
-                elif isinstance(item, Channel):
-                    scan.channels[item.id] = item
-                else:
-                    scan.add(item)
-        except _READ_ERRORS as err:
-            size = self._path.stat().st_size
-            scan.clean = scan.good_end == size
-            scan.error = str(err) or type(err).__name__
-        return scan
+        return conns, found.bounds, found.chunk_compressions
 
     @property
     def connections(self) -> Sequence[Connection]:
@@ -184,6 +126,11 @@ class McapSource:
     @property
     def notes(self) -> Sequence[str]:
         return self._notes
+
+    @property
+    def compression(self) -> Compression:
+        """What most chunks use (zstd, lz4 or none)."""
+        return self._compression
 
     def bounds(self, connection_id: int) -> tuple[int, int] | None:
         if self._summary is None:
@@ -222,15 +169,13 @@ class McapSource:
     def _streamed(self, ids: Collection[int], start_ns: int | None, stop_ns: int | None) -> Iterator[RawMessage]:
         by_id = {c.id: c for c in self._connections if c.id in set(ids)}
         try:
-            for item in _stream_records(self._file):
-                if isinstance(item, int) and item >= self._good_end:
-                    return
+            for item in stream(self._file, self._path.stat().st_size):
                 if not isinstance(item, Message) or (conn := by_id.get(item.channel_id)) is None:
                     continue
                 if (start_ns is None or item.log_time >= start_ns) and (stop_ns is None or item.log_time < stop_ns):
                     yield RawMessage(conn, item.log_time, item.data)
-        except _READ_ERRORS:
-            return  # the cut was reported when the file was opened
+        except RecordError:
+            return  # the damage was reported (or accepted for recovery) when the file was opened
 
     def close(self) -> None:
         self._file.close()

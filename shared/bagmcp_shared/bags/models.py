@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from collections import Counter
+from collections.abc import Iterable
 from dataclasses import dataclass, field
 from enum import StrEnum
 from typing import NamedTuple
@@ -14,6 +16,41 @@ class BagFormat(StrEnum):
     ROS2_SQLITE3 = "ros2-sqlite3"  # ROS 2 bag directory or bare .db3 file(s)
     ROS2_MCAP = "ros2-mcap"  # ROS 2 bag directory whose storage files are MCAP
     MCAP = "mcap"  # a bare .mcap file (profile ros1 or ros2)
+
+
+class Compression(StrEnum):
+    """How a bag's messages are compressed on disk."""
+
+    NONE = "none"
+    BZ2 = "bz2"  # ROS 1 chunks
+    LZ4 = "lz4"  # ROS 1 or MCAP chunks (LZ4 frames)
+    ZSTD = "zstd"  # MCAP chunks
+    ZSTD_FILE = "zstd-file"  # ROS 2: each storage file compressed whole (compression_mode: file)
+    ZSTD_MESSAGE = "zstd-message"  # ROS 2: each payload compressed (compression_mode: message)
+
+    @property
+    def label(self) -> str:
+        """A few words for messages: "bz2 chunks", "zstd per message"."""
+        if self is Compression.NONE:
+            return "no compression"
+        if self is Compression.ZSTD_FILE:
+            return "zstd per storage file"
+        if self is Compression.ZSTD_MESSAGE:
+            return "zstd per message"
+        return f"{self.value} chunks"
+
+    @classmethod
+    def of_chunks(cls, names: Iterable[str]) -> Compression:
+        """The compression most chunks use ("" and "none" are uncompressed, unknown names ignored).
+
+        Uncompressed chunks count only when no chunk is compressed; ties go to the first name in
+        alphabetical order so the answer never depends on chunk order.
+        """
+        known = {c.value for c in (cls.BZ2, cls.LZ4, cls.ZSTD)}
+        counts = Counter(name for name in names if name in known)
+        if not counts:
+            return cls.NONE
+        return cls(min(counts, key=lambda name: (-counts[name], name)))
 
 
 class Encoding(StrEnum):
@@ -41,6 +78,13 @@ class Connection:
     count: int
     digest: str = ""
     metadata: tuple[tuple[str, str], ...] = ()
+
+    @property
+    def latched(self) -> bool:
+        """ROS 1 latching, or a ROS 2 publisher offering transient-local durability."""
+        meta = dict(self.metadata)
+        qos = meta.get("offered_qos_profiles", "").lower()
+        return meta.get("latching") == "1" or "durability: 1" in qos or "transient_local" in qos
 
 
 class RawMessage(NamedTuple):

@@ -12,7 +12,7 @@ from typing import Self
 from bagmcp_shared.bags.decoding import Decoder
 from bagmcp_shared.bags.detect import sniff_file
 from bagmcp_shared.bags.mcap_source import McapSource
-from bagmcp_shared.bags.models import BagFormat, BagSummary, Connection, RawMessage, TopicSummary
+from bagmcp_shared.bags.models import BagFormat, BagSummary, Compression, Connection, RawMessage, TopicSummary
 from bagmcp_shared.bags.ros1_source import Ros1Source
 from bagmcp_shared.bags.ros2_dir import open_directory, open_storage_file
 from bagmcp_shared.bags.source import MessageSource
@@ -40,6 +40,11 @@ class BagReader:
     @property
     def connections(self) -> Sequence[Connection]:
         return self._source.connections
+
+    @property
+    def compression(self) -> Compression:
+        """How the bag's messages are compressed on disk (ROS 1/MCAP chunks, ROS 2 compression_mode)."""
+        return self._source.compression
 
     @property
     def decoder(self) -> Decoder:

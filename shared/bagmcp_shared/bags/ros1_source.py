@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import struct
 from collections.abc import Collection, Iterator, Sequence
 from pathlib import Path
 
@@ -9,7 +10,7 @@ from rosbags.interfaces import Connection as RbConnection
 from rosbags.interfaces import ConnectionExtRosbag1
 from rosbags.rosbag1 import Reader, ReaderError
 
-from bagmcp_shared.bags.models import Connection, Encoding, RawMessage
+from bagmcp_shared.bags.models import Compression, Connection, Encoding, RawMessage
 from bagmcp_shared.errors import DamagedBagError
 
 
@@ -35,6 +36,29 @@ def _convert(conn: RbConnection) -> Connection:
     )
 
 
+def _header_field(record: bytes, name: bytes) -> str:
+    """The value of field ``name`` in a record header (length-prefixed ``name=value`` fields)."""
+    pos = 0
+    while pos + 4 <= len(record):
+        (size,) = struct.unpack_from("<I", record, pos)
+        key, _, value = record[pos + 4 : pos + 4 + size].partition(b"=")
+        if key == name:
+            return value.decode("ascii", "replace")
+        pos += 4 + size
+    return ""
+
+
+def _chunk_compressions(path: Path, positions: Sequence[int]) -> list[str]:
+    """The ``compression`` field of the chunk records at ``positions``."""
+    found = []
+    with path.open("rb") as file:
+        for pos in positions:
+            file.seek(pos)
+            (size,) = struct.unpack("<I", file.read(4))
+            found.append(_header_field(file.read(size), b"compression"))
+    return found
+
+
 class Ros1Source:
     """A ROS 1 bag; the bag's index (read at open) gives counts and first/last times."""
 
@@ -47,8 +71,10 @@ class Ros1Source:
             raise DamagedBagError(
                 f"{path}: the ROS 1 bag's index is damaged ({detail}); `rosbag reindex` may repair it"
             ) from err
+        self._path = path
         self._by_id = {c.id: c for c in self._reader.connections}
         self._connections = [_convert(c) for c in self._reader.connections]
+        self._compression: Compression | None = None
 
     @property
     def connections(self) -> Sequence[Connection]:
@@ -57,6 +83,18 @@ class Ros1Source:
     @property
     def notes(self) -> Sequence[str]:
         return []
+
+    @property
+    def compression(self) -> Compression:
+        """What most chunks use (bz2, lz4 or none); read from the chunk headers on first use."""
+        if self._compression is None:
+            positions = [info.pos for info in self._reader.chunk_infos]
+            try:
+                names = _chunk_compressions(self._path, positions)
+            except (OSError, struct.error) as err:
+                raise DamagedBagError(f"{self._path}: a chunk header could not be read ({err})") from err
+            self._compression = Compression.of_chunks(names)
+        return self._compression
 
     def bounds(self, connection_id: int) -> tuple[int, int] | None:
         index = self._reader.indexes.get(connection_id)

@@ -14,7 +14,7 @@ import zstandard
 
 from bagmcp_shared.bags.detect import sniff_file
 from bagmcp_shared.bags.mcap_source import McapSource
-from bagmcp_shared.bags.models import BagFormat, Connection, RawMessage
+from bagmcp_shared.bags.models import BagFormat, Compression, Connection, RawMessage
 from bagmcp_shared.bags.source import MergedSource, MessageSource
 from bagmcp_shared.bags.sqlite3_source import Sqlite3Source
 from bagmcp_shared.errors import DamagedBagError, UnsupportedFormatError
@@ -116,6 +116,10 @@ class _DecompressedMessages:
     def notes(self) -> Sequence[str]:
         return self._inner.notes
 
+    @property
+    def compression(self) -> Compression:
+        return Compression.ZSTD_MESSAGE
+
     def bounds(self, connection_id: int) -> tuple[int, int] | None:
         return self._inner.bounds(connection_id)
 
@@ -164,4 +168,5 @@ def open_directory(
         kinds.add(kind)
     fmt = BagFormat.ROS2_SQLITE3 if kinds == {BagFormat.ROS2_SQLITE3} else BagFormat.ROS2_MCAP
     conns = [c for s in sources for c in s.connections]
-    return MergedSource(sources, notes=_disagreements(info, conns)), fmt, files
+    compression = {"file": Compression.ZSTD_FILE, "message": Compression.ZSTD_MESSAGE}.get(mode)
+    return MergedSource(sources, notes=_disagreements(info, conns), compression=compression), fmt, files

@@ -7,7 +7,7 @@ from collections.abc import Collection, Iterator, Sequence
 from dataclasses import replace
 from typing import Protocol
 
-from bagmcp_shared.bags.models import Connection, RawMessage
+from bagmcp_shared.bags.models import Compression, Connection, RawMessage
 
 
 class MessageSource(Protocol):
@@ -22,6 +22,11 @@ class MessageSource(Protocol):
 
     @property
     def notes(self) -> Sequence[str]: ...
+
+    @property
+    def compression(self) -> Compression:
+        """How the messages are compressed on disk (what most chunks use)."""
+        ...
 
     def bounds(self, connection_id: int) -> tuple[int, int] | None:
         """Log times (ns) of the first and last message of a connection; None when empty."""
@@ -40,12 +45,20 @@ class MergedSource:
     """Several storage files of one bag (split ROS 2 bags) seen as one source.
 
     Connections with the same topic and type across files become one connection whose count
-    is the sum; messages from all files are merged in time order.
+    is the sum; messages from all files are merged in time order. The compression is ``compression``
+    when given (a ROS 2 bag's compression_mode), else what most of its files use.
     """
 
-    def __init__(self, sources: Sequence[MessageSource], *, notes: Sequence[str] = ()) -> None:
+    def __init__(
+        self,
+        sources: Sequence[MessageSource],
+        *,
+        notes: Sequence[str] = (),
+        compression: Compression | None = None,
+    ) -> None:
         self._sources = list(sources)
         self._notes = list(notes)
+        self._compression = compression
         self._local_to_global: list[dict[int, Connection]] = []
         merged: dict[tuple[str, str], Connection] = {}
         for source in self._sources:
@@ -70,6 +83,12 @@ class MergedSource:
     @property
     def notes(self) -> Sequence[str]:
         return self._notes + [note for source in self._sources for note in source.notes]
+
+    @property
+    def compression(self) -> Compression:
+        if self._compression is None:
+            self._compression = Compression.of_chunks(s.compression.value for s in self._sources)
+        return self._compression
 
     def bounds(self, connection_id: int) -> tuple[int, int] | None:
         found: list[tuple[int, int]] = []

@@ -13,7 +13,7 @@ from collections.abc import Collection, Iterator, Sequence
 from contextlib import suppress
 from pathlib import Path
 
-from bagmcp_shared.bags.models import Connection, Encoding, RawMessage
+from bagmcp_shared.bags.models import Compression, Connection, Encoding, RawMessage
 from bagmcp_shared.errors import DamagedBagError, UnsupportedFormatError
 
 _DEFINITION_FORMATS = {"ros2msg": "msg", "ros2idl": "idl"}
@@ -122,6 +122,11 @@ class Sqlite3Source:
     @property
     def notes(self) -> Sequence[str]:
         return []
+
+    @property
+    def compression(self) -> Compression:
+        """A storage file holds plain rows; compression_mode in metadata.yaml is the bag's."""
+        return Compression.NONE
 
     def bounds(self, connection_id: int) -> tuple[int, int] | None:
         return self._bounds.get(connection_id)

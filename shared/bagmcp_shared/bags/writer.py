@@ -3,7 +3,9 @@
 Within one family (ROS 1 -> ROS 1, ROS 2 -> ROS 2) payloads are copied byte for byte with their
 definitions, ROS 1 latching/callerid and ROS 2 QoS. Across families they are converted with
 rosbags' byte-level converters and the definitions are generated for the target family.
-The output is all or nothing: a failure or a cancellation removes what was written.
+The source's compression is kept within its format and replaced by the output format's usual
+one across formats (see writer_storage). The output is all or nothing: a failure or a
+cancellation removes what was written.
 """
 
 from __future__ import annotations
@@ -15,37 +17,27 @@ import struct
 from collections.abc import Callable, Iterable
 from contextlib import suppress
 from dataclasses import dataclass
-from enum import StrEnum
 from pathlib import Path
 
 from rosbags.interfaces import Connection as RbConnection
 from rosbags.rosbag1 import Writer as Ros1Writer
 from rosbags.rosbag1 import WriterError as Ros1WriterError
-from rosbags.rosbag2 import StoragePlugin
-from rosbags.rosbag2 import Writer as Ros2Writer
 from rosbags.rosbag2 import WriterError as Ros2WriterError
 
-from bagmcp_shared.bags.models import BagFormat, Connection, Encoding
+from bagmcp_shared.bags.models import BagFormat, Compression, Connection, Encoding
 from bagmcp_shared.bags.reader import BagReader
 from bagmcp_shared.bags.writer_connections import Convert, OutConn, ros1_output, ros2_output
 from bagmcp_shared.bags.writer_connections import FilterError as FilterError
-from bagmcp_shared.errors import BagmcpError
+from bagmcp_shared.bags.writer_storage import AnyWriter, new_writer, output_compression
+from bagmcp_shared.bags.writer_storage import OutputFormat as OutputFormat
+from bagmcp_shared.errors import JobCancelledError
 
 _PROGRESS_EVERY = 1000  # messages between progress reports (fewer for small selections)
 _WRITE_ERRORS = (Ros1WriterError, Ros2WriterError, sqlite3.Error, OSError, struct.error)
 Progress = Callable[[float, str], None]
-AnyWriter = Ros1Writer | Ros2Writer
 
 
-class OutputFormat(StrEnum):
-    """The container a filtered copy is written as."""
-
-    ROS1 = "ros1"
-    ROS2_SQLITE3 = "ros2-sqlite3"
-    ROS2_MCAP = "ros2-mcap"
-
-
-class FilterCancelled(BagmcpError):  # noqa: N818 (a cancellation, not an error; name is the API)
+class FilterCancelled(JobCancelledError):  # noqa: N818 (a cancellation, not an error; name is the API)
     """The caller cancelled writing a filtered bag; nothing was left on disk."""
 
 
@@ -89,10 +81,13 @@ class FilterSpec:
 
 @dataclass(frozen=True)
 class FilterResult:
-    """The written bag (a .bag file or a ROS 2 directory) and the messages written per topic."""
+    """The written bag (a .bag file or a ROS 2 directory), the messages written per topic, and its
+    compression with a few words on how it relates to the source's ("bz2 chunks, as in the source")."""
 
     path: Path
     counts: dict[str, int]
+    compression: Compression
+    compression_note: str
 
 
 @dataclass(frozen=True)
@@ -121,10 +116,11 @@ def write_filtered(
     """
     target = _target_path(directory, name, fmt)
     streams = _plan(reader, spec, fmt)
+    compression, note = output_compression(reader.format, reader.compression, fmt)
     topics = sorted({c.topic for c in reader.connections if c.id in streams})
     total = sum(c.count for c in reader.connections if c.id in streams)
     tracker = _Tracker(total, progress, cancelled)
-    writer = _open_writer(target, fmt)
+    writer = _open_writer(target, fmt, compression)
     try:
         counts = _write(reader, writer, spec, streams, topics, tracker)
     except BaseException:
@@ -132,8 +128,8 @@ def write_filtered(
             writer.abort()
         _remove(target)
         raise
-    tracker.finish(f"wrote {sum(counts.values())} messages to {target.name}")
-    return FilterResult(target, counts)
+    tracker.finish(f"wrote {sum(counts.values())} messages to {target.name} ({note})")
+    return FilterResult(target, counts, compression, note)
 
 
 def _target_path(directory: Path, name: str, fmt: OutputFormat) -> Path:
@@ -223,17 +219,10 @@ class _Tracker:
             self._progress(1.0, message)
 
 
-def _new_writer(target: Path, fmt: OutputFormat) -> AnyWriter:
-    if fmt is OutputFormat.ROS1:
-        return Ros1Writer(target)
-    plugin = StoragePlugin.MCAP if fmt is OutputFormat.ROS2_MCAP else StoragePlugin.SQLITE3
-    return Ros2Writer(target, version=9, storage_plugin=plugin)
-
-
-def _open_writer(target: Path, fmt: OutputFormat) -> AnyWriter:
+def _open_writer(target: Path, fmt: OutputFormat, compression: Compression) -> AnyWriter:
     """Create the output atomically: a path that exists (even one that just appeared) is kept."""
     try:
-        writer = _new_writer(target, fmt)
+        writer = new_writer(target, fmt, compression)
         writer.open()
     except (Ros1WriterError, Ros2WriterError) as err:  # rosbags refuses to overwrite anything
         raise FilterError(f"{target} exists already; choose another name") from err

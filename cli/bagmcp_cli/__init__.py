@@ -1,0 +1,1 @@
+"""The bagmcp command: every service in one process (serve, stdio), upload, info, and the gateway."""

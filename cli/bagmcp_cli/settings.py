@@ -1,0 +1,35 @@
+"""Settings of the embedded server, read once from the environment and the command line."""
+
+from __future__ import annotations
+
+import hashlib
+from dataclasses import dataclass
+from pathlib import Path
+
+from bagmcp_shared.settings import Env, default_data_dir
+
+
+@dataclass(frozen=True)
+class EmbeddedSettings:
+    folder: Path
+    data_dir: Path
+    job_budget_s: float = 20.0
+
+    @classmethod
+    def from_env(cls, folder: Path, data_dir: Path | None, env: Env | None = None) -> EmbeddedSettings:
+        """Without ``data_dir``, each served folder gets its own directory under the default data directory,
+        so servers over different folders never share indexes or the bags filter_bag made."""
+        env = env or Env()
+        return cls(
+            folder=folder,
+            data_dir=data_dir or default_data_dir(env) / folder_key(folder),
+            job_budget_s=env.number("BAGMCP_JOB_BUDGET_S", 20.0),
+        )
+
+
+def folder_key(folder: Path) -> str:
+    """A directory name for a served folder: its name and a hash of its absolute path."""
+    resolved = folder.resolve()
+    digest = hashlib.sha256(str(resolved).encode()).hexdigest()[:12]
+    name = "".join(c if c.isalnum() or c in "-_." else "_" for c in resolved.name)[:40] or "root"
+    return f"{name}-{digest}"

@@ -1,0 +1,75 @@
+"""`bagmcp tools --profile P` (what a profile lists, and its size) and `bagmcp config --client C` (a
+client's configuration for a server URL and token)."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import tempfile
+from pathlib import Path
+
+import anyio
+from mcp import Client
+from mcp.server.auth.provider import AccessToken
+
+from bagmcp_cli.embedded import compose
+from bagmcp_cli.settings import EmbeddedSettings
+from bagmcp_gateway.aggregator import build_gateway_server
+from bagmcp_gateway.policy import DEFAULT_PROFILES, ToolPolicy
+from bagmcp_gateway.tokens.models import SCOPES
+
+
+async def _listing(profile: str) -> list[dict[str, object]]:
+    with tempfile.TemporaryDirectory(prefix="bagmcp-tools-") as tmp:
+        composition = compose(EmbeddedSettings(Path(tmp), Path(tmp) / "data"))
+        try:
+            async with Client(build_gateway_server(composition.upstreams), cache=None) as client:
+                tools = list((await client.list_tools()).tools)
+        finally:
+            composition.embedded.runner.shutdown()
+    caller = AccessToken(token="-", client_id="-", scopes=list(SCOPES), claims={"profile": profile})
+    shown = ToolPolicy().shown(tools, caller)
+    return [t.model_dump(mode="json", by_alias=True, exclude_none=True) for t in shown]
+
+
+def tools(args: argparse.Namespace) -> int:
+    listing = anyio.run(_listing, args.profile)
+    size = len(json.dumps({"tools": listing}, separators=(",", ":")))
+    if args.json:
+        print(json.dumps({"profile": args.profile, "tools": [t["name"] for t in listing], "characters": size}))
+        return 0
+    for tool in listing:
+        print(f"{tool['name']:24} {len(json.dumps(tool, separators=(',', ':'))):6} characters")
+    print(f"profile {args.profile}: {len(listing)} tools, tools/list is {size:,} characters")
+    return 0
+
+
+def _snippet(client: str, url: str, token: str | None, name: str) -> str:
+    header = f"Authorization: Bearer {token}" if token else None
+    if client == "claude-code":
+        return f"claude mcp add --transport http {name} {url}" + (f' --header "{header}"' if header else "")
+    if client == "cursor":
+        entry: dict[str, object] = {"url": url, **({"headers": {"Authorization": f"Bearer {token}"}} if token else {})}
+        return json.dumps({"mcpServers": {name: entry}}, indent=2)
+    args = ["-y", "mcp-remote@0.15.1", url, *(["--header", header] if header else [])]
+    if url.startswith("http://") and not url.startswith(("http://127.0.0.1", "http://localhost")):
+        args.append("--allow-http")
+    return json.dumps({"mcpServers": {name: {"command": "npx", "args": args}}}, indent=2)
+
+
+def config(args: argparse.Namespace) -> int:
+    print(_snippet(args.client, args.url, args.token, args.name))
+    return 0
+
+
+def add_surface_commands(commands: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
+    listing = commands.add_parser("tools", help="the tools a profile lists, and the size of its tools/list")
+    listing.add_argument("--profile", default="full", choices=sorted(DEFAULT_PROFILES))
+    listing.add_argument("--json", action="store_true")
+    listing.set_defaults(handler=tools)
+    snippet = commands.add_parser("config", help="print an MCP client's configuration for a bagmcp URL and token")
+    snippet.add_argument("--client", required=True, choices=["claude-code", "cursor", "desktop"])
+    snippet.add_argument("--url", default="http://127.0.0.1:8000/mcp", help="the MCP URL (gateway or bagmcp serve)")
+    snippet.add_argument("--token", help="the bearer token to send")
+    snippet.add_argument("--name", default="bagmcp", help="the server's name in the client")
+    snippet.set_defaults(handler=config)

@@ -1,0 +1,119 @@
+"""The gateway's view of its upstreams: which are up, and the tools each publishes, refreshed in the
+background (by polling and after a failed call) so tools/list never waits for an upstream.
+
+A down upstream's tools leave the list until it is back; every change is published as a
+``tools/list_changed`` event. Tool order is deterministic: upstreams in configuration order, each
+upstream's tools in its own order. A name two upstreams publish is a configuration error: at start-up
+the gateway refuses to start; later (an upstream that was down at start) the newcomer's tool is left out.
+"""
+
+from __future__ import annotations
+
+import logging
+import time
+from dataclasses import dataclass, field
+
+import anyio
+import mcp.types as types
+from anyio.abc import TaskStatus
+from mcp.server.subscriptions import SubscriptionBus, ToolsListChanged
+
+from bagmcp_gateway.connections import Connections
+from bagmcp_gateway.upstreams import GatewayConfigError, Upstream
+
+log = logging.getLogger(__name__)
+
+
+@dataclass
+class UpstreamState:
+    up: bool = False
+    error: str | None = None
+    tools: list[types.Tool] = field(default_factory=list)
+    since: float = field(default_factory=time.time)
+
+
+class ToolCatalog:
+    def __init__(
+        self, upstreams: list[Upstream], connections: Connections, bus: SubscriptionBus, *, poll_s: float = 5.0
+    ) -> None:
+        self.upstreams = upstreams
+        self._connections = connections
+        self._bus = bus
+        self._poll_s = poll_s
+        self.states = {u.name: UpstreamState() for u in upstreams}
+        self.tools: list[types.Tool] = []
+        self.routes: dict[str, tuple[Upstream, str]] = {}
+        self.known: dict[str, Upstream] = {}  # every name an upstream ever published: for "unavailable" errors
+        self.conflicts: list[str] = []
+        self._wake = anyio.Event()
+
+    async def _list(self, upstream: Upstream) -> list[types.Tool]:
+        with anyio.fail_after(upstream.timeout_s):
+            async with self._connections.client(upstream) as client:
+                return list((await client.list_tools()).tools)
+
+    async def refresh(self, upstream: Upstream) -> None:
+        state = self.states[upstream.name]
+        try:
+            tools = await self._list(upstream)
+        except Exception as err:  # any failure means down; the others go on
+            if state.up or state.error is None:
+                log.warning("upstream %s is unavailable: %s", upstream.name, err)
+            self.states[upstream.name] = UpstreamState(False, f"{type(err).__name__}: {err}", [], time.time())
+            return
+        names = [t.name for t in tools]
+        if not state.up or names != [t.name for t in state.tools]:
+            log.info("upstream %s is up with %d tools", upstream.name, len(tools))
+        self.states[upstream.name] = UpstreamState(True, None, tools, state.since if state.up else time.time())
+
+    async def refresh_all(self) -> bool:
+        """List every upstream at once; True when the tool list changed."""
+        before = [t.name for t in self.tools]
+        async with anyio.create_task_group() as group:
+            for upstream in self.upstreams:
+                group.start_soon(self.refresh, upstream)
+        self._rebuild()
+        changed = before != [t.name for t in self.tools]
+        if changed:
+            await self._bus.publish(ToolsListChanged())
+        return changed
+
+    def _rebuild(self) -> None:
+        tools: list[types.Tool] = []
+        routes: dict[str, tuple[Upstream, str]] = {}
+        conflicts: list[str] = []
+        for upstream in self.upstreams:
+            for tool in self.states[upstream.name].tools:
+                name = upstream.exposed(tool.name)
+                if name in routes:
+                    conflicts.append(
+                        f"tool {name!r} is published by {routes[name][0].name} and {upstream.name}; "
+                        f"give one of them a prefix in BAGMCP_UPSTREAMS (name=url@prefix)"
+                    )
+                    continue
+                routes[name] = (upstream, tool.name)
+                self.known[name] = upstream
+                tools.append(tool.model_copy(update={"name": name}))
+        self.tools, self.routes, self.conflicts = tools, routes, conflicts
+        for message in conflicts:
+            log.error("gateway configuration error: %s", message)
+
+    def check_startup(self) -> None:
+        if self.conflicts:
+            raise GatewayConfigError("; ".join(self.conflicts))
+
+    def tool(self, name: str) -> types.Tool | None:
+        return next((t for t in self.tools if t.name == name), None)
+
+    def failed(self, upstream: Upstream) -> None:
+        """A call to ``upstream`` failed in transport: re-list soon instead of at the next poll."""
+        self._wake.set()
+
+    async def run(self, *, task_status: TaskStatus[None] = anyio.TASK_STATUS_IGNORED) -> None:
+        """Keep the catalog fresh until cancelled."""
+        task_status.started()
+        while True:
+            with anyio.move_on_after(self._poll_s):
+                await self._wake.wait()
+            self._wake = anyio.Event()
+            await self.refresh_all()

@@ -1,0 +1,77 @@
+"""Which tools a caller sees and may call: the gateway's global enable list, the token's profile and its
+allow/deny globs, and the scope a tool needs. Checked in tools/list and again in tools/call."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+from fnmatch import fnmatchcase
+
+import mcp.types as types
+from mcp.server.auth.provider import AccessToken
+
+CORE_TOOLS = (
+    "list_bags",
+    "bag_info",
+    "search_messages",
+    "analyze_trajectory",
+    "analyze_lidar_scan",
+    "get_tf_tree",
+    "plot_timeseries",
+    "plot_2d",
+)
+
+
+@dataclass(frozen=True)
+class Profile:
+    """A named set of tools (globs); ``lean`` lists them without output schemas, for small models."""
+
+    tools: tuple[str, ...]
+    lean: bool = False
+
+
+DEFAULT_PROFILES: Mapping[str, Profile] = {"full": Profile(("*",)), "core": Profile(CORE_TOOLS, lean=True)}
+
+
+def _any(name: str, globs: Sequence[str]) -> bool:
+    return any(fnmatchcase(name, g) for g in globs)
+
+
+def needed_scope(tool: types.Tool) -> str:
+    """Tools that create things (not read-only, not destructive: filter_bag) need ``upload``; the rest ``read``."""
+    hints = tool.annotations
+    creates = hints is not None and hints.read_only_hint is False and hints.destructive_hint is False
+    return "upload" if creates else "read"
+
+
+@dataclass(frozen=True)
+class ToolPolicy:
+    enabled: tuple[str, ...] = ("*",)
+    disabled: tuple[str, ...] = ()
+    profiles: Mapping[str, Profile] = field(default_factory=lambda: dict(DEFAULT_PROFILES))
+
+    def profile_of(self, caller: AccessToken | None) -> Profile | None:
+        name = (caller.claims or {}).get("profile") if caller is not None else None
+        return self.profiles.get(str(name)) if name else None
+
+    def allows(self, tool: types.Tool, caller: AccessToken | None) -> bool:
+        """Whether ``caller`` (None: no authentication, a local user) may see and call ``tool``."""
+        name = tool.name
+        if not _any(name, self.enabled) or _any(name, self.disabled):
+            return False
+        if caller is None:
+            return True
+        claims = caller.claims or {}
+        profile = self.profile_of(caller)
+        if profile is not None and not _any(name, profile.tools):
+            return False
+        allow, deny = list(claims.get("allow") or []), list(claims.get("deny") or [])
+        if (allow and not _any(name, allow)) or _any(name, deny):
+            return False
+        return needed_scope(tool) in caller.scopes
+
+    def shown(self, tools: Sequence[types.Tool], caller: AccessToken | None) -> list[types.Tool]:
+        """The tools ``caller`` may use, as its profile lists them."""
+        lean = (profile := self.profile_of(caller)) is not None and profile.lean
+        visible = [t for t in tools if self.allows(t, caller)]
+        return [t.model_copy(update={"output_schema": None}) for t in visible] if lean else visible

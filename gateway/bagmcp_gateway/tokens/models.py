@@ -1,0 +1,99 @@
+"""A token's record: who it is, what it may do, until when. The secret itself is never stored."""
+
+from __future__ import annotations
+
+import hashlib
+import hmac
+import re
+import secrets
+import time
+from typing import Literal
+
+from pydantic import BaseModel, Field
+
+from bagmcp_shared.errors import ArgumentError
+
+Scope = Literal["read", "upload", "delete", "admin"]
+SCOPES: tuple[Scope, ...] = ("read", "upload", "delete", "admin")
+TOKEN_PREFIX = "bmcp_"
+_NAME = re.compile(r"^[A-Za-z0-9][A-Za-z0-9._-]{0,63}$")
+_DURATION = re.compile(r"^(\d+)\s*([smhdw])$")
+_UNITS_S = {"s": 1, "m": 60, "h": 3600, "d": 86400, "w": 604800}
+
+
+def token_hash(token: str) -> str:
+    return hashlib.sha256(token.encode()).hexdigest()
+
+
+def same_hash(a: str, b: str) -> bool:
+    return hmac.compare_digest(a.encode(), b.encode())
+
+
+def new_secret() -> str:
+    return TOKEN_PREFIX + secrets.token_urlsafe(32)
+
+
+def check_name(name: str) -> str:
+    if not _NAME.match(name):
+        raise ArgumentError(f"token name {name!r} must be 1-64 letters, digits, '.', '_' or '-'")
+    return name
+
+
+def parse_duration_s(text: str) -> int:
+    """``30d``, ``12h``, ``90m``, ``2w`` or ``45s`` in seconds."""
+    match = _DURATION.match(text.strip().lower())
+    if match is None:
+        raise ArgumentError(f"duration {text!r} must look like 30d, 12h, 90m, 2w or 45s")
+    return int(match.group(1)) * _UNITS_S[match.group(2)]
+
+
+class TokenRecord(BaseModel):
+    """``allow``/``deny`` are tool-name globs; ``profile`` names a tool profile (None: every enabled tool)."""
+
+    name: str
+    hash: str
+    scopes: list[Scope]
+    profile: str | None = None
+    allow: list[str] = Field(default_factory=list)
+    deny: list[str] = Field(default_factory=list)
+    created_at: float = Field(default_factory=time.time)
+    expires_at: float | None = None
+
+    def expired(self, now: float | None = None) -> bool:
+        return self.expires_at is not None and (now or time.time()) >= self.expires_at
+
+
+class TokenInfo(BaseModel):
+    """A token as `bagmcp token list` shows it (never the secret or its hash)."""
+
+    name: str
+    scopes: list[Scope]
+    profile: str | None
+    allow: list[str]
+    deny: list[str]
+    created_at: float
+    expires_at: float | None
+    expired: bool
+
+    @classmethod
+    def of(cls, record: TokenRecord) -> TokenInfo:
+        return cls(
+            name=record.name,
+            scopes=record.scopes,
+            profile=record.profile,
+            allow=record.allow,
+            deny=record.deny,
+            created_at=record.created_at,
+            expires_at=record.expires_at,
+            expired=record.expired(),
+        )
+
+
+class NewToken(BaseModel):
+    """What `bagmcp token create` prints once: the secret and what it may do."""
+
+    name: str
+    token: str
+    scopes: list[Scope]
+    profile: str | None
+    expires_at: float | None

@@ -1,0 +1,100 @@
+"""Who a bearer token is: an API token (looked up by its hash, cached briefly) or a JWT from the team's
+identity provider (checked against its JWKS, issuer and audience)."""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+
+import anyio
+import jwt
+from mcp.server.auth.provider import AccessToken
+
+from bagmcp_gateway.tokens.models import SCOPES, TokenRecord, token_hash
+from bagmcp_gateway.tokens.store import TokenStore
+
+CACHE_S = 5.0
+
+
+@dataclass(frozen=True)
+class JwtSettings:
+    """``scope`` (space separated) or ``scp`` carry the scopes; ``bagmcp_profile`` names a tool profile."""
+
+    jwks_url: str
+    issuer: str
+    audience: str | None = None
+
+
+def access_of(record: TokenRecord, secret: str) -> AccessToken:
+    claims = {"profile": record.profile, "allow": record.allow, "deny": record.deny}
+    expires = int(record.expires_at) if record.expires_at is not None else None
+    return AccessToken(
+        token=secret, client_id=record.name, scopes=list(record.scopes), expires_at=expires, claims=claims
+    )
+
+
+class GatewayVerifier:
+    """The gateway's token check (the SDK's TokenVerifier protocol), also used by the REST routes."""
+
+    def __init__(
+        self,
+        store: TokenStore | None,
+        *,
+        static: dict[str, TokenRecord] | None = None,
+        jwt_settings: JwtSettings | None = None,
+    ) -> None:
+        self._store = store
+        self._static = static or {}
+        self._jwt = jwt_settings
+        self._jwks = jwt.PyJWKClient(jwt_settings.jwks_url, cache_keys=True, lifespan=300) if jwt_settings else None
+        self._cache: dict[str, tuple[float, TokenRecord | None]] = {}
+
+    def forget(self) -> None:
+        """Drop cached lookups (after a revoke on this replica; other replicas follow within CACHE_S)."""
+        self._cache.clear()
+
+    async def verify_token(self, token: str) -> AccessToken | None:
+        if self._jwks is not None and token.count(".") == 2:
+            return await anyio.to_thread.run_sync(self._verify_jwt, token)
+        record = await self._record(token_hash(token))
+        if record is None or record.expired():
+            return None
+        return access_of(record, token)
+
+    async def _record(self, digest: str) -> TokenRecord | None:
+        if digest in self._static:
+            return self._static[digest]
+        cached = self._cache.get(digest)
+        if cached is not None and time.monotonic() - cached[0] < CACHE_S:
+            return cached[1]
+        record = await anyio.to_thread.run_sync(self._store.by_hash, digest) if self._store is not None else None
+        self._cache[digest] = (time.monotonic(), record)
+        return record
+
+    def _verify_jwt(self, token: str) -> AccessToken | None:
+        assert self._jwks is not None
+        assert self._jwt is not None
+        try:
+            key = self._jwks.get_signing_key_from_jwt(token)
+            claims = jwt.decode(
+                token,
+                key.key,
+                algorithms=["RS256", "ES256", "PS256", "EdDSA"],
+                issuer=self._jwt.issuer,
+                audience=self._jwt.audience,
+                options={"require": ["exp", "iss", "sub"], "verify_aud": self._jwt.audience is not None},
+            )
+        except jwt.PyJWTError:
+            return None
+        granted = claims.get("scope", "")
+        listed = granted.split() if isinstance(granted, str) else list(claims.get("scp", []))
+        scopes = [s for s in listed if s in SCOPES]
+        extra = {"profile": claims.get("bagmcp_profile"), "allow": [], "deny": [], "iss": claims["iss"]}
+        return AccessToken(
+            token=token,
+            client_id=str(claims["sub"]),
+            scopes=scopes,
+            expires_at=int(claims["exp"]),
+            subject=str(claims["sub"]),
+            claims=extra,
+        )

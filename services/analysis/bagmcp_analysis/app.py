@@ -1,0 +1,25 @@
+"""``create_app``: the analysis service in team mode, on the kit's service app."""
+
+from __future__ import annotations
+
+from fastapi import FastAPI
+
+from bagmcp_analysis.job_kinds import QUEUE
+from bagmcp_analysis.wiring import build_analysis
+from bagmcp_kit.service_app import create_service_app
+from bagmcp_shared.resources import team_resources
+from bagmcp_shared.settings import ServiceSettings
+
+
+def create_app(settings: ServiceSettings) -> FastAPI:
+    server, _ = build_analysis(
+        team_resources(settings.team, queue=QUEUE),
+        service_token=settings.team.service_token,
+        public_url=settings.public_url,
+    )
+    return create_service_app(
+        title="bagmcp analysis",
+        server=server,
+        service_token=settings.team.service_token,
+        allowed_hosts=settings.http.allowed_hosts,
+    )

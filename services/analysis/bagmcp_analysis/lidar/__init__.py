@@ -1,0 +1,1 @@
+"""LaserScan and PointCloud2 geometry at full resolution: statistics, sectors, free gaps, approaches."""

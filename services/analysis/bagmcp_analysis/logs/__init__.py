@@ -1,0 +1,1 @@
+"""ROS log records: levels of both ROS versions, filters and summaries."""

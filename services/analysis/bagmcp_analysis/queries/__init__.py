@@ -1,0 +1,1 @@
+"""The analyses behind the tools: read what they need from a bag (index first), compute, report."""

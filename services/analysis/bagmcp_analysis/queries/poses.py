@@ -1,0 +1,69 @@
+"""A pose topic's poses as a Track in metres (index first), on header stamps when they are sane."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import numpy.typing as npt
+
+from bagmcp_analysis.trajectory.track import Track, pick_clock, track_from_fixes
+from bagmcp_shared.access import OpenBag
+from bagmcp_shared.errors import ArgumentError
+from bagmcp_shared.index import read_series
+from bagmcp_shared.jobs import Progress
+from bagmcp_shared.timebase import MAX_CLOCK_SKEW_NS
+from bagmcp_shared.topics import GPS, POSE_SOURCES
+
+
+@dataclass(frozen=True)
+class Poses:
+    """The track (on ``clock``) and the log time of each of its poses (what answers report)."""
+
+    track: Track
+    log_ns: npt.NDArray[np.int64]
+    clock: str
+    notes: list[str]
+
+
+def _clock(
+    log_ns: npt.NDArray[np.int64], header_ns: npt.NDArray[np.int64]
+) -> tuple[npt.NDArray[np.int64], str, str | None]:
+    stamps, clock, note = pick_clock(log_ns, header_ns)
+    if clock == "header" and len(stamps) and float(np.median(np.abs(stamps - log_ns))) > MAX_CLOCK_SKEW_NS:
+        return (
+            log_ns,
+            "log_time",
+            "header stamps are on another clock than log time (minutes apart), so log time was used",
+        )
+    return stamps, clock, note
+
+
+def read_poses(ob: OpenBag, topic: str, msgtype: str, lo: int, hi: int, progress: Progress) -> Poses:
+    """The topic's poses in [lo, hi] as a Track in metres, on header stamps when they are sane."""
+    source = POSE_SOURCES[msgtype]
+    notes: list[str] = []
+    if msgtype == GPS:
+        columns = ["latitude", "longitude", "altitude", "status.status"]
+        series = read_series(ob.reader, topic, columns, index=ob.index, start_ns=lo, stop_ns=hi + 1, progress=progress)
+        lat, lon, alt, status = (series.columns[c].astype(np.float64) for c in columns)
+        valid = (status >= 0) & np.isfinite(lat) & np.isfinite(lon)
+        log_ns = series.t_ns[valid]
+        stamps, clock, note = _clock(log_ns, series.header_ns[valid])
+        if valid.any():
+            track = track_from_fixes(stamps, lat[valid], lon[valid], alt[valid], status[valid].astype(np.int64))
+        else:
+            raise ArgumentError(f"{topic} has no valid GPS fix in this window (status >= 0 with a position)")
+        notes.append("GPS fixes as metres east (x) and north (y) of the first valid fix; no heading")
+    else:
+        columns = [f"{source.position}.{axis}" for axis in "xyz"] + [f"{source.orientation}.yaw"]
+        series = read_series(ob.reader, topic, columns, index=ob.index, start_ns=lo, stop_ns=hi + 1, progress=progress)
+        x, y, z, yaw = (series.columns[c].astype(np.float64) for c in columns)
+        log_ns = series.t_ns
+        stamps, clock, note = _clock(log_ns, series.header_ns)
+        track = Track(t_ns=stamps, x=x, y=y, z=z, yaw=yaw)
+    if note:
+        notes.append(note)
+    if len(track.t_ns) < 2:
+        raise ArgumentError(f"{topic} has {len(track.t_ns)} pose(s) in this window; a trajectory needs two or more")
+    return Poses(track, log_ns, clock, notes)

@@ -1,0 +1,93 @@
+"""analyze_trajectory: the summary of a pose topic's path over a window."""
+
+from __future__ import annotations
+
+import math
+
+from bagmcp_analysis.job_kinds import TrajectoryParams
+from bagmcp_analysis.queries.poses import Poses, read_poses
+from bagmcp_analysis.reports.trajectory import Pose, StopOut, TrajectoryReport, Waypoint
+from bagmcp_analysis.trajectory.track import summarize_track
+from bagmcp_shared.access import BagAccess, OpenBag
+from bagmcp_shared.errors import ArgumentError
+from bagmcp_shared.jobs import Progress
+from bagmcp_shared.timebase import Instant
+from bagmcp_shared.topics import GPS, choose_pose_topic
+
+
+def _number(value: float) -> float | None:
+    return value if math.isfinite(value) else None
+
+
+def _pose(ob: OpenBag, poses: Poses, index: int) -> Pose:
+    track = poses.track
+    yaw = _number(float(track.yaw[index]))
+    return Pose(
+        x=float(track.x[index]),
+        y=float(track.y[index]),
+        z=_number(float(track.z[index])),
+        yaw_deg=round(math.degrees(yaw), 6) if yaw is not None else None,
+        time=ob.instant(int(poses.log_ns[index])),
+    )
+
+
+def _frame(ob: OpenBag, topic: str, msgtype: str, lo: int) -> str | None:
+    if msgtype == GPS:
+        return "local east/north of the first fix"
+    first = next(ob.reader.messages([topic], start_ns=lo), None)
+    header = getattr(ob.reader.decode(first), "header", None) if first is not None else None
+    frame = getattr(header, "frame_id", None)
+    return str(frame) if frame else None
+
+
+def analyze_trajectory(access: BagAccess, params: TrajectoryParams, progress: Progress) -> TrajectoryReport:
+    with access.open(params.bag) as ob:
+        topic, msgtype, alternatives = choose_pose_topic(ob, params.topic)
+        lo, hi = ob.window(params.start, params.end)
+        poses = read_poses(ob, topic, msgtype, lo, hi, progress)
+        try:
+            summary = summarize_track(poses.track)
+        except ValueError as err:
+            raise ArgumentError(f"{topic}: {err}") from err
+
+        def at(index: int) -> Instant:
+            return ob.instant(int(poses.log_ns[index]))
+
+        return TrajectoryReport(
+            bag=ob.name,
+            topic=topic,
+            type=msgtype,
+            frame=_frame(ob, topic, msgtype, lo),
+            alternatives=alternatives,
+            clock="header" if poses.clock == "header" else "log_time",
+            start=ob.instant(lo),
+            end=ob.instant(hi),
+            samples=summary.samples,
+            duration_s=summary.duration_s,
+            distance_2d_m=summary.distance_2d_m,
+            distance_3d_m=summary.distance_3d_m,
+            displacement_2d_m=summary.displacement_2d_m,
+            displacement_3d_m=summary.displacement_3d_m,
+            path_efficiency=summary.path_efficiency,
+            mean_speed_mps=summary.mean_speed_mps,
+            mean_moving_speed_mps=summary.mean_moving_speed_mps,
+            max_speed_mps=summary.max_speed_mps,
+            max_speed_at=at(summary.max_speed_index) if summary.max_speed_index is not None else None,
+            moving_s=summary.moving_s,
+            stopped_s=summary.stopped_s,
+            stops=[
+                StopOut(start=at(s.start_index), end=at(s.end_index), duration_s=s.duration_s) for s in summary.stops
+            ],
+            extents=summary.extents,
+            start_pose=_pose(ob, poses, summary.start_index),
+            end_pose=_pose(ob, poses, summary.end_index),
+            waypoints=[Waypoint(**_pose(ob, poses, w.index).model_dump(), reason=w.reason) for w in summary.waypoints],
+            notes=[*poses.notes, *summary.notes],
+        )
+
+
+def trajectory_is_small(access: BagAccess, params: TrajectoryParams) -> bool:
+    """Small when the index holds the poses, or the topic is short enough to decode at once."""
+    with access.open(params.bag) as ob:
+        topic, _, _ = choose_pose_topic(ob, params.topic)
+        return ob.indexed(topic) or ob.short(topic)

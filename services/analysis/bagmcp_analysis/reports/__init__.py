@@ -1,0 +1,1 @@
+"""Output schemas of the analysis tools, one module per area."""

@@ -1,0 +1,45 @@
+"""What summarize_window answers: evidence about a window an agent can quote, every statement with numbers."""
+
+from __future__ import annotations
+
+from typing import Literal
+
+from pydantic import BaseModel, Field
+
+from bagmcp_analysis.reports.lidar import Closest
+from bagmcp_analysis.reports.logs import LogEntry
+from bagmcp_shared.timebase import Instant
+
+
+class TopicActivity(BaseModel):
+    topic: str
+    count: int = Field(description="messages in the window")
+    rate_hz: float | None = Field(description="in the window")
+    bag_rate_hz: float | None = Field(description="over the whole bag")
+    longest_silence_s: float | None = Field(description="longest time without a message inside the window")
+    silent_from: Instant | None
+    status: Literal["ok", "slow", "silent", "gap", "absent"] = Field(
+        description="slow: under half its bag rate; gap: silent over 3 periods; absent: not recorded then"
+    )
+
+
+class Motion(BaseModel):
+    topic: str
+    distance_m: float
+    mean_speed_mps: float | None
+    max_speed_mps: float | None
+    moving_s: float
+    stopped_s: float
+    stops: int
+
+
+class WindowReport(BaseModel):
+    bag: str
+    start: Instant
+    end: Instant
+    statements: list[str] = Field(description="what happened, with numbers and times")
+    topics: list[TopicActivity] = Field(description="topics that were not ok first")
+    warnings: dict[str, int] = Field(description="log records at WARN or above by level")
+    log_entries: list[LogEntry] = Field(description="the first WARN-or-worse records")
+    motion: Motion | None
+    closest_obstacle: Closest | None

@@ -1,0 +1,1 @@
+"""Trajectory summaries: clock choice, distances, speeds, stops and waypoints."""

@@ -1,0 +1,166 @@
+"""Windowed motion of a track: speeds robust to batched stamps, moving/stopped time, stops, stationary runs.
+
+Speeds are the 2D straight-line displacement over windows of elapsed time of at least
+max(0.05 s, 2 x median positive step), so messages that share (nearly) one log time cannot produce absurd
+speeds. Windows start at a sample and end at the first sample at least one window later; the short remainder
+at the end of the track counts towards the time of the last window but not towards its speed (its poses may
+share one stamp). Stamps that go backwards are replaced by the running maximum (they add no elapsed time).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+import numpy.typing as npt
+
+from bagmcp_analysis.trajectory.types import Stop, Track
+
+MIN_WINDOW_NS = 50_000_000
+MIN_STOP_S = 0.5
+NEAR_REPEAT_DIVISOR = 100  # steps up to 1 % of the speed window count as repeated stamps
+
+
+@dataclass(frozen=True)
+class StationaryRun:
+    """Consecutive windows in which the position barely changes (the heading may change)."""
+
+    start_index: int
+    end_index: int
+    turn_rad: float | None
+
+
+@dataclass(frozen=True, eq=False)
+class Motion:
+    """Per-window measurements; `span_ends` and `elapsed_s` include the short remainder at the end."""
+
+    window_s: float | None
+    starts: npt.NDArray[np.int64]
+    span_ends: npt.NDArray[np.int64]
+    elapsed_s: npt.NDArray[np.float64]
+    speed_mps: npt.NDArray[np.float64]
+    moving: npt.NDArray[np.bool_]
+    stops: list[Stop]
+    stationary: list[StationaryRun]
+    repeated_stamps: int  # steps of at most 1 % of the window (exact or near repeats)
+    backwards_stamps: int
+
+    @property
+    def duration_s(self) -> float:
+        return float(self.elapsed_s.sum())
+
+
+def analyse_motion(track: Track, *, stop_speed_mps: float, turn_rate_rps: float) -> Motion:
+    """Split the track into time windows and classify each as moving or stopped."""
+    mono_ns = np.maximum.accumulate(track.t_ns) if track.t_ns.size else track.t_ns
+    window_ns = _window_length_ns(mono_ns)
+    repeated, backwards = _stamp_anomalies(track.t_ns, window_ns)
+    bounds = _window_bounds(mono_ns, window_ns)
+    starts, ends = bounds[:-1], bounds[1:]
+    span_ends = ends.copy()
+    if span_ends.size:
+        span_ends[-1] = track.t_ns.size - 1
+    elapsed_s = (mono_ns[span_ends] - mono_ns[starts]).astype(np.float64) * 1e-9
+    measured_s = (mono_ns[ends] - mono_ns[starts]).astype(np.float64) * 1e-9
+    chord_m = np.hypot(track.x[ends] - track.x[starts], track.y[ends] - track.y[starts])
+    speed = chord_m / measured_s if starts.size else np.zeros(0)
+    unwrapped = _unwrapped_yaw(track.yaw)
+    turn_rad = unwrapped[span_ends] - unwrapped[starts]
+    turn_rate = np.abs(turn_rad) / np.where(elapsed_s > 0, elapsed_s, np.inf)
+    turning = np.nan_to_num(turn_rate, nan=0.0) > turn_rate_rps
+    stationary_mask = speed <= stop_speed_mps
+    moving = ~stationary_mask | turning
+    return Motion(
+        window_s=None if window_ns is None else window_ns * 1e-9,
+        starts=starts,
+        span_ends=span_ends,
+        elapsed_s=elapsed_s,
+        speed_mps=speed,
+        moving=moving,
+        stops=_stops(starts, span_ends, elapsed_s, ~moving),
+        stationary=_stationary_runs(starts, span_ends, stationary_mask, unwrapped),
+        repeated_stamps=repeated,
+        backwards_stamps=backwards,
+    )
+
+
+def _stamp_anomalies(t_ns: npt.NDArray[np.int64], window_ns: int | None) -> tuple[int, int]:
+    """(repeated, backwards) steps; a step of at most 1 % of the speed window counts as a repeat."""
+    steps = np.diff(t_ns)
+    near_ns = 0 if window_ns is None else window_ns // NEAR_REPEAT_DIVISOR
+    return int(((steps >= 0) & (steps <= near_ns)).sum()), int((steps < 0).sum())
+
+
+def _window_length_ns(mono_ns: npt.NDArray[np.int64]) -> int | None:
+    steps = np.diff(mono_ns)
+    positive = steps[steps > 0]
+    if positive.size == 0:
+        return None
+    return max(MIN_WINDOW_NS, math.ceil(2.0 * float(np.median(positive))))
+
+
+def _window_bounds(mono_ns: npt.NDArray[np.int64], window_ns: int | None) -> npt.NDArray[np.int64]:
+    """Sample indices bounding consecutive windows; the last one may end before the final sample."""
+    if window_ns is None:
+        return np.zeros(0, dtype=np.int64)
+    count = mono_ns.size
+    bounds = [0]
+    while True:
+        nxt = int(np.searchsorted(mono_ns, mono_ns[bounds[-1]] + window_ns, side="left"))
+        if nxt >= count:
+            break
+        bounds.append(nxt)
+    if len(bounds) == 1:
+        bounds.append(count - 1)  # shorter than one window: measure over everything
+    return np.asarray(bounds, dtype=np.int64)
+
+
+def _unwrapped_yaw(yaw: npt.NDArray[np.float64]) -> npt.NDArray[np.float64]:
+    """Continuous heading, carried forward over unknown samples; NaN before the first known one."""
+    known = np.flatnonzero(np.isfinite(yaw))
+    result = np.full(yaw.shape, np.nan)
+    if known.size == 0:
+        return result
+    steps = np.diff(yaw[known])
+    wrapped = (steps + math.pi) % (2.0 * math.pi) - math.pi
+    result[known] = yaw[known[0]] + np.concatenate(([0.0], np.cumsum(wrapped)))
+    last_known = np.maximum.accumulate(np.where(np.isfinite(yaw), np.arange(yaw.size), -1))
+    filled = result[np.maximum(last_known, 0)]
+    return np.where(last_known >= 0, filled, np.nan)
+
+
+def _runs(mask: npt.NDArray[np.bool_]) -> list[tuple[int, int]]:
+    """Inclusive (first, last) positions of the runs of True in mask."""
+    edges = np.diff(np.concatenate(([0], mask.astype(np.int8), [0])))
+    firsts = np.flatnonzero(edges == 1)
+    lasts = np.flatnonzero(edges == -1) - 1
+    return list(zip(firsts.tolist(), lasts.tolist(), strict=True))
+
+
+def _stops(
+    starts: npt.NDArray[np.int64],
+    span_ends: npt.NDArray[np.int64],
+    elapsed_s: npt.NDArray[np.float64],
+    stopped: npt.NDArray[np.bool_],
+) -> list[Stop]:
+    result = []
+    for first, last in _runs(stopped):
+        duration_s = float(elapsed_s[first : last + 1].sum())
+        if duration_s >= MIN_STOP_S - 1e-9:
+            result.append(Stop(int(starts[first]), int(span_ends[last]), duration_s))
+    return result
+
+
+def _stationary_runs(
+    starts: npt.NDArray[np.int64],
+    span_ends: npt.NDArray[np.int64],
+    stationary: npt.NDArray[np.bool_],
+    unwrapped: npt.NDArray[np.float64],
+) -> list[StationaryRun]:
+    result = []
+    for first, last in _runs(stationary):
+        start, end = int(starts[first]), int(span_ends[last])
+        turn = float(unwrapped[end] - unwrapped[start])
+        result.append(StationaryRun(start, end, turn if math.isfinite(turn) else None))
+    return result

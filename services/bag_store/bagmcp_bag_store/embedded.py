@@ -1,0 +1,48 @@
+"""The bag-store inside one process (``bagmcp serve`` / ``stdio``): a read-only folder of bags,
+catalogued at start-up and ingested on a thread pool; jobs on another pool."""
+
+from __future__ import annotations
+
+import logging
+import tempfile
+from pathlib import Path
+
+from bagmcp_bag_store.errors import STATUSES
+from bagmcp_bag_store.ingest.folder import FolderHashes, catalog_folder, catalog_stored
+from bagmcp_bag_store.job_kinds import INGEST, RUN_JOB
+from bagmcp_bag_store.wiring import BagStore, build_bag_store
+from bagmcp_kit.parts import ServicePart
+from bagmcp_shared.jobs import run_job
+from bagmcp_shared.resources import Embedded
+
+log = logging.getLogger(__name__)
+
+
+def start_embedded(embedded: Embedded) -> BagStore:
+    """The bag-store over the embedded resources; starts cataloguing and ingesting the folder."""
+    res = embedded.resources
+    bag_store = build_bag_store(res, upload_dir=Path(tempfile.gettempdir()), max_upload_bytes=0)
+    work = bag_store.work
+
+    hashes = FolderHashes(res.catalog, embedded.folder, embedded.data_dir / "content-ids.json")
+
+    def ingest(bag_id: str) -> None:
+        try:
+            hashes.fill(bag_id)
+            work.ingestor.ingest(bag_id)
+        except Exception as err:  # a thread has no caller to report to: record it on the bag
+            log.exception("ingest of %s failed", bag_id)
+            work.ingestor.mark_failed(bag_id, f"ingest failed ({type(err).__name__}: {err})")
+
+    embedded.runner.bind(INGEST, ingest, workers=1)
+    embedded.runner.bind(RUN_JOB, lambda job_id: run_job(work.registry, res.jobs, job_id), workers=2)
+    ids = catalog_folder(res.catalog, embedded.folder)
+    for bag_id in [*ids, *catalog_stored(res.catalog, res.store)]:
+        res.runner.submit(INGEST, bag_id)
+    return bag_store
+
+
+def embedded_part(embedded: Embedded) -> ServicePart:
+    """The bag-store part of the embedded server."""
+    bag_store = start_embedded(embedded)
+    return ServicePart("bag-store", bag_store.server, (bag_store.router,), STATUSES)

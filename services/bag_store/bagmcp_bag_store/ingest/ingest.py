@@ -1,0 +1,100 @@
+"""Ingest: read a stored bag once and record what later questions need in the catalog."""
+
+from __future__ import annotations
+
+import json
+import logging
+import tempfile
+import time
+from collections.abc import Callable
+from pathlib import Path
+
+from bagmcp_shared import keys
+from bagmcp_shared.access import BagFiles, IndexPublisher
+from bagmcp_shared.bags import BagReader, open_bag
+from bagmcp_shared.catalog import BagRecord, Catalog, CatalogSummary
+from bagmcp_shared.errors import BagError, BagNotFoundError
+from bagmcp_shared.index import ColumnIndex, build_index
+from bagmcp_shared.storage import ObjectStore
+
+log = logging.getLogger(__name__)
+PROGRESS_EVERY_S = 0.5
+
+
+def _definitions(bag: BagReader) -> dict[str, dict[str, str]]:
+    return {c.msgtype: {"format": c.definition_format, "text": c.definition} for c in bag.connections}
+
+
+class Ingestor:
+    """Summarizes bags into the catalog and builds their columnar index (``store`` keeps a copy of
+    what ingest learned next to stored bags, so the catalog can be rebuilt from storage)."""
+
+    def __init__(self, catalog: Catalog, files: BagFiles, indexes: IndexPublisher, store: ObjectStore) -> None:
+        self._catalog = catalog
+        self._files = files
+        self._indexes = indexes
+        self._store = store
+
+    def mark_failed(self, bag_id: str, reason: str) -> None:
+        """Record why a bag cannot be used (no-op if it was deleted meanwhile)."""
+        record = self._catalog.get(bag_id)
+        if record is not None:
+            self._catalog.replace(record.model_copy(update={"status": "failed", "error": reason, "progress": None}))
+
+    def ingest(self, bag_id: str) -> str:
+        """Summarize the bag, build its columnar index, and mark it ready (or failed, with the reason).
+
+        Idempotent: a redelivered task on a ready bag does nothing. Storage errors propagate so the
+        caller can retry; a bag deleted while ingesting stays deleted.
+        """
+        record = self._catalog.get(bag_id)
+        if record is None:
+            raise BagNotFoundError(f"bag {bag_id} is not in the catalog (deleted while queued?)")
+        if record.status == "ready":
+            return record.status
+        path = self._files.path_for(record)
+        try:
+            with open_bag(path) as bag:
+                found = bag.summary()
+                definitions = _definitions(bag)
+                index_files, header_rates = self._index(record, bag)
+        except BagError as err:
+            reason = str(err).replace(str(path), record.name)  # no server paths in what clients see
+            log.warning("ingest of %s failed: %s", bag_id, reason)
+            self.mark_failed(bag_id, reason)
+            return "failed"
+        summary = CatalogSummary.of(found, header_rates=header_rates)
+        if record.in_store:
+            learned = {"summary": summary.model_dump(mode="json"), "definitions": definitions}
+            self._store.put_bytes(keys.ingest_summary(bag_id), json.dumps(learned).encode())
+        ready = {"status": "ready", "summary": summary, "error": None, "progress": None, "index_files": index_files}
+        if not self._catalog.replace(record.model_copy(update=ready)):
+            log.info("bag %s was deleted while it was ingested", bag_id)
+            return "deleted"
+        return "ready"
+
+    def _progress(self, bag_id: str) -> Callable[[float, str], None]:
+        """Records ingest progress on the bag (list_bags shows it), at most twice a second."""
+        last = 0.0
+
+        def report(fraction: float, _message: str) -> None:
+            nonlocal last
+            if time.monotonic() - last < PROGRESS_EVERY_S:
+                return
+            last = time.monotonic()
+            record = self._catalog.get(bag_id)
+            if record is not None and record.status == "ingesting":
+                self._catalog.replace(record.model_copy(update={"progress": round(min(fraction, 0.99), 3)}))
+
+        return report
+
+    def _index(self, record: BagRecord, bag: BagReader) -> tuple[list[str], dict[str, float]]:
+        """The bag's columnar index (reused when this process already has a usable one, else built),
+        and the header-stamp rate of each indexed topic that has sane header stamps."""
+        if (existing := ColumnIndex.load(self._files.index_dir(record))) is not None:
+            return record.index_files, existing.header_rates()
+        with tempfile.TemporaryDirectory(prefix="bagmcp-index-") as tmp:
+            build_index(bag, Path(tmp) / "columns", progress=self._progress(record.id))
+            built = ColumnIndex.load(Path(tmp) / "columns")
+            assert built is not None
+            return self._indexes.publish_index(record, Path(tmp) / "columns"), built.header_rates()

@@ -1,0 +1,159 @@
+"""The logic behind get_message_at_time and get_messages_in_range, with bounded output."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from pydantic import JsonValue
+
+from bagmcp_bag_store.results import MessageAtTime, MessageOut, MessageRange
+from bagmcp_shared.access import BagAccess, OpenBag
+from bagmcp_shared.bags import RawMessage
+from bagmcp_shared.errors import ArgumentError
+from bagmcp_shared.index import ColumnIndex
+from bagmcp_shared.jsonify import fit
+from bagmcp_shared.paths import Step, check_steps, extract, format_steps, parse_field_path
+from bagmcp_shared.timebase import TimeInput, header_stamp_ns
+
+
+def message_out(bag: OpenBag, raw: RawMessage, projection: list[tuple[Step, ...]], budget: int) -> MessageOut:
+    """One message as answers show it, its JSON within ``budget`` bytes."""
+    msg = bag.reader.decode(raw)
+    shown: object = {format_steps(p): extract(msg, p) for p in projection} if projection else msg
+    header = header_stamp_ns(msg)
+    data: JsonValue = fit(shown, budget)
+    return MessageOut(time=bag.instant(raw.log_time_ns), header_stamp_s=header / 1e9 if header else None, data=data)
+
+
+def projection(bag: OpenBag, topic: str, fields: list[str] | None) -> list[tuple[Step, ...]]:
+    msgtype = bag.reader.topic_connections(topic)[0].msgtype
+    store = bag.reader.decoder.typestore(msgtype)
+    steps = [parse_field_path(f) for f in fields or []]
+    for s in steps:
+        check_steps(store, msgtype, s)
+    return steps
+
+
+def get_message_at_time(
+    access: BagAccess, bag: str, topic: str, time: TimeInput, fields: list[str] | None = None, *, budget_bytes: int
+) -> MessageAtTime:
+    with access.open(bag) as ob:
+        steps = projection(ob, topic, fields)
+        stamp_ns = ob.time(time)
+        raw = ob.nearest(topic, stamp_ns)
+        return MessageAtTime(
+            bag=ob.record.name,
+            topic=raw.connection.topic,
+            requested=ob.instant(stamp_ns),
+            clock="log_time",
+            delta_s=(raw.log_time_ns - stamp_ns) / 1e9,
+            message=message_out(ob, raw, steps, budget_bytes),
+        )
+
+
+@dataclass(frozen=True)
+class Cursor:
+    """Where the next page starts: its first log time, how many messages at that instant were shown
+    already, the window's total, and the position of that message in the window (for ``every``)."""
+
+    stamp_ns: int
+    skip: int
+    total: int
+    position: int = 0
+
+    @classmethod
+    def parse(cls, text: str | None) -> Cursor | None:
+        if not text:
+            return None
+        try:
+            parts = [int(part) for part in text.split(":")]
+            return cls(*parts)
+        except (TypeError, ValueError) as err:
+            raise ArgumentError(f"cursor {text!r} is not one this tool returned") from err
+
+    def __str__(self) -> str:
+        return f"{self.stamp_ns}:{self.skip}:{self.total}:{self.position}"
+
+
+def _count(ob: OpenBag, index: ColumnIndex | None, topic: str, lo: int, hi: int) -> int:
+    """Messages of ``topic`` in [lo, hi]: from the index or the summary when they can tell, else counted."""
+    summary = ob.topic(topic)
+    first, last = summary.first_ns, summary.last_ns
+    if first is None or last is None or (lo <= first and hi >= last):
+        return summary.count
+    if index is not None and index.columns(topic):
+        times = index.read(topic, []).t_ns
+        return int(np.searchsorted(times, hi, side="right") - np.searchsorted(times, lo, side="left"))
+    return sum(1 for _ in ob.reader.messages([topic], start_ns=lo, stop_ns=hi + 1))
+
+
+@dataclass(frozen=True)
+class _Limits:
+    max_messages: int
+    budget_bytes: int
+    every: int
+
+
+def _page(
+    ob: OpenBag, topic: str, steps: list[tuple[Step, ...]], first: Cursor, hi: int, limits: _Limits
+) -> tuple[list[MessageOut], Cursor | None]:
+    """Messages from ``first`` up to ``hi`` within the limits (every ``every``-th message of the window).
+
+    Returns the page and where the next one starts (None at the end of the window).
+    """
+    out: list[MessageOut] = []
+    used = 0
+    run_ts, run = -1, 0
+    position = first.position
+    for index, raw in enumerate(ob.reader.messages([topic], start_ns=first.stamp_ns, stop_ns=hi + 1)):
+        if index >= first.skip:
+            if position % limits.every == 0:
+                item = message_out(ob, raw, steps, limits.budget_bytes)
+                size = len(item.model_dump_json())
+                if len(out) >= limits.max_messages or (out and used + size > limits.budget_bytes):
+                    skip = run if run_ts == raw.log_time_ns else 0
+                    return out, Cursor(raw.log_time_ns, skip, first.total, position)
+                out.append(item)
+                used += size
+            position += 1
+        run, run_ts = (run + 1, run_ts) if raw.log_time_ns == run_ts else (1, raw.log_time_ns)
+    return out, None
+
+
+def get_messages_in_range(
+    access: BagAccess,
+    bag: str,
+    topic: str,
+    start: TimeInput | None = None,
+    end: TimeInput | None = None,
+    fields: list[str] | None = None,
+    max_messages: int = 20,
+    cursor: str | None = None,
+    *,
+    every: int = 1,
+    budget_bytes: int,
+) -> MessageRange:
+    if not 1 <= max_messages <= 1000:
+        raise ArgumentError("max_messages must be between 1 and 1000")
+    with access.open(bag) as ob:
+        name = ob.topic_name(topic)
+        steps = projection(ob, name, fields)
+        lo, hi = ob.window(start, end)
+        resume = Cursor.parse(cursor)
+        if resume is not None and not lo <= resume.stamp_ns <= hi:
+            raise ArgumentError("the cursor does not belong to this start/end window")
+        first = resume or Cursor(lo, 0, _count(ob, ob.index, name, lo, hi))
+        out, following = _page(ob, name, steps, first, hi, _Limits(max_messages, budget_bytes, every))
+        return MessageRange(
+            bag=ob.record.name,
+            topic=name,
+            start=ob.instant(lo),
+            end=ob.instant(hi),
+            clock="log_time",
+            total=first.total,
+            returned=len(out),
+            truncated=following is not None,
+            next_cursor=str(following) if following else None,
+            messages=out,
+        )

@@ -1,0 +1,48 @@
+"""MCP adapters for catalog and type questions: list_bags, bag_info, describe_topic."""
+
+from __future__ import annotations
+
+from typing import Annotated
+
+from mcp.types import CallToolResult
+from pydantic import Field
+
+from bagmcp_bag_store.query import catalog_queries
+from bagmcp_bag_store.results import BagInfo, BagList, TopicDescription
+from bagmcp_kit.answers import run_query
+from bagmcp_kit.arguments import BagRef, Offset, TopicName
+from bagmcp_shared.access import BagAccess
+
+
+class CatalogTools:
+    def __init__(self, access: BagAccess, *, budget_bytes: int) -> None:
+        self._access = access
+        self._budget = budget_bytes
+
+    def list_bags(
+        self,
+        name: Annotated[str | None, Field(description="part of the name")] = None,
+        tag: Annotated[str | None, Field(description="only bags with this tag")] = None,
+        offset: Offset = 0,
+        limit: Annotated[int, Field(ge=1, le=500, description="page size")] = 50,
+    ) -> Annotated[CallToolResult, BagList]:
+        """The bags with status, format, duration and counts. Call this first."""
+        return run_query(
+            lambda: catalog_queries.list_bags(self._access.catalog, name=name, tag=tag, offset=offset, limit=limit),
+            lambda r: f"{r.total} bags; showing {len(r.bags)} from {r.offset}",
+        )
+
+    def bag_info(self, bag: BagRef) -> Annotated[CallToolResult, BagInfo]:
+        """One bag's format, size, start/end, duration and every topic with type, count and rate."""
+        return run_query(
+            lambda: catalog_queries.bag_info(self._access.catalog, bag),
+            lambda r: f"{r.name}: {r.message_count} messages on {len(r.topics)} topics over {r.duration_s:.3f} s",
+        )
+
+    def describe_topic(self, bag: BagRef, topic: TopicName) -> Annotated[CallToolResult, TopicDescription]:
+        """A topic's field paths with types and units, plus its first message as a sample.
+        Use the paths in `fields` and plots, e.g. twist.twist.linear.x."""
+        return run_query(
+            lambda: catalog_queries.describe_topic(self._access, bag, topic, budget_bytes=self._budget),
+            lambda r: f"{r.topic} ({r.type}): {r.count} messages, {len(r.fields)} fields",
+        )

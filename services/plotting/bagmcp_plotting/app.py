@@ -1,0 +1,28 @@
+"""``create_app``: the plotting service in team mode, on the kit's service app."""
+
+from __future__ import annotations
+
+from fastapi import FastAPI
+
+from bagmcp_kit.service_app import create_service_app
+from bagmcp_plotting.job_kinds import QUEUE
+from bagmcp_plotting.settings import PlottingSettings
+from bagmcp_plotting.wiring import build_plotting
+from bagmcp_shared.resources import team_resources
+
+
+def create_app(settings: PlottingSettings) -> FastAPI:
+    service = settings.service
+    server, router, _ = build_plotting(
+        team_resources(service.team, queue=QUEUE),
+        artifact_base_url=settings.artifact_base_url,
+        service_token=service.team.service_token,
+        public_url=service.public_url,
+    )
+    return create_service_app(
+        title="bagmcp plotting",
+        server=server,
+        routers=[router],
+        service_token=service.team.service_token,
+        allowed_hosts=service.http.allowed_hosts,
+    )

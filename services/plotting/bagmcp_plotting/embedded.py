@@ -1,0 +1,17 @@
+"""The plotting service inside one process (``bagmcp serve`` / ``stdio``): plots on a thread pool,
+artifacts in the data directory."""
+
+from __future__ import annotations
+
+from bagmcp_kit.parts import ServicePart
+from bagmcp_plotting.job_kinds import RUN_JOB
+from bagmcp_plotting.wiring import build_plotting
+from bagmcp_shared.jobs import run_job
+from bagmcp_shared.resources import Embedded
+
+
+def embedded_part(embedded: Embedded, *, artifact_base_url: str = "") -> ServicePart:
+    res = embedded.resources
+    server, router, registry = build_plotting(res, artifact_base_url=artifact_base_url)
+    embedded.runner.bind(RUN_JOB, lambda job_id: run_job(registry, res.jobs, job_id), workers=2)
+    return ServicePart("plotting", server, (router,))

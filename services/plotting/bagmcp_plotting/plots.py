@@ -1,0 +1,246 @@
+"""The plots behind the tools: read the numbers, render a PNG (off the event loop), store it as an
+artifact named by the request, and report what was plotted."""
+
+from __future__ import annotations
+
+import math
+import struct
+from collections.abc import Callable
+
+import numpy as np
+from pydantic import BaseModel
+
+from bagmcp_plotting.artifacts import Artifacts, artifact_id
+from bagmcp_plotting.data import PathSeries, read_path
+from bagmcp_plotting.drawing import Line, render_histogram, render_overlay, render_scan, render_timeseries, render_xy
+from bagmcp_plotting.job_kinds import CompareParams, HistogramParams, ScanPlotParams, TimeseriesParams, XYParams
+from bagmcp_plotting.reports import Artifact, PlotReport, SeriesOut
+from bagmcp_shared.access import BagAccess, OpenBag
+from bagmcp_shared.errors import ArgumentError
+from bagmcp_shared.jobs import Progress
+from bagmcp_shared.topics import GPS, POSE_SOURCES, SCAN, choose_lidar_topic, choose_pose_topic
+from bagmcp_shared.units import unit_of
+
+MOVING_MPS = 0.05
+
+
+def _series_out(series: PathSeries) -> SeriesOut:
+    finite = series.values[np.isfinite(series.values)]
+    low, high = (float(finite.min()), float(finite.max())) if finite.size else (None, None)
+    return SeriesOut(name=series.name, unit=series.unit, points=int(finite.size), min=low, max=high)
+
+
+def _png_size(png: bytes) -> tuple[int, int]:
+    width, height = struct.unpack(">II", png[16:24])
+    return int(width), int(height)
+
+
+def _window_title(ob: OpenBag, lo: int, hi: int) -> str:
+    return f"{ob.name}, {(lo - ob.start_ns) / 1e9:.1f}-{(hi - ob.start_ns) / 1e9:.1f} s"
+
+
+class Plotter:
+    def __init__(self, access: BagAccess, artifacts: Artifacts) -> None:
+        self._access = access
+        self._artifacts = artifacts
+
+    def _store(self, key: str, png: bytes, report: PlotReport) -> PlotReport:
+        width, height = _png_size(png)
+        artifact = Artifact(
+            id=key, url=self._artifacts.url(key), mime_type="image/png", bytes=len(png), width=width, height=height
+        )
+        final = report.model_copy(update={"artifact": artifact})
+        self._artifacts.save(key, png, final)
+        return final
+
+    def _plot(self, kind: str, params: BaseModel, bags: list[str], make: Callable[[str], PlotReport]) -> PlotReport:
+        ids = [self._access.ready(b).id for b in bags]
+        key = artifact_id(kind, params, ids)
+        return self._artifacts.cached(key, lambda: make(key))
+
+    def timeseries(self, params: TimeseriesParams, progress: Progress) -> PlotReport:
+        def make(key: str) -> PlotReport:
+            with self._access.open(params.bag) as ob:
+                lo, hi = ob.window(params.start, params.end)
+                series = [read_path(ob, p, lo, hi, progress) for p in params.paths]
+                title = params.title or f"{', '.join(s.name for s in series)} ({_window_title(ob, lo, hi)})"
+                lines = [Line(s.name, s.unit, s.t_s(ob.start_ns), s.values) for s in series]
+                png = render_timeseries(lines, style=params.style, title=title)
+                report = PlotReport(
+                    bags=[ob.name],
+                    title=title,
+                    start=ob.instant(lo),
+                    end=ob.instant(hi),
+                    series=[_series_out(s) for s in series],
+                    artifact=_PENDING,
+                    notes=[],
+                )
+                return self._store(key, png, report)
+
+        return self._plot("timeseries", params, [params.bag], make)
+
+    def xy(self, params: XYParams, progress: Progress) -> PlotReport:
+        def make(key: str) -> PlotReport:
+            with self._access.open(params.bag) as ob:
+                lo, hi = ob.window(params.start, params.end)
+                x, y, notes = self._xy_series(ob, params, lo, hi, progress)
+                title = f"{y.name} against {x.name} ({_window_title(ob, lo, hi)})"
+                trajectory = params.x is None
+                png = render_xy(
+                    x=x.values,
+                    y=y.values,
+                    t_s=x.t_s(ob.start_ns),
+                    x_label=f"{x.name} [{x.unit}]" if x.unit else x.name,
+                    y_label=f"{y.name} [{y.unit}]" if y.unit else y.name,
+                    title=title,
+                    equal_aspect=trajectory and x.unit == y.unit == "m",
+                    color_by_time=params.color_by_time,
+                    mark_ends=trajectory,
+                )
+                report = PlotReport(
+                    bags=[ob.name],
+                    title=title,
+                    start=ob.instant(lo),
+                    end=ob.instant(hi),
+                    series=[_series_out(x), _series_out(y)],
+                    artifact=_PENDING,
+                    notes=notes,
+                )
+                return self._store(key, png, report)
+
+        return self._plot("xy", params, [params.bag], make)
+
+    def _xy_series(
+        self, ob: OpenBag, params: XYParams, lo: int, hi: int, progress: Progress
+    ) -> tuple[PathSeries, PathSeries, list[str]]:
+        if params.x is not None and params.y is not None:
+            x, y = read_path(ob, params.x, lo, hi, progress), read_path(ob, params.y, lo, hi, progress)
+            if not np.array_equal(x.t_ns, y.t_ns):
+                raise ArgumentError("x and y must be fields of the same topic (one point per message)")
+            return x, y, []
+        if params.x is not None or params.y is not None:
+            raise ArgumentError("give both x and y message paths, or only a pose topic (or nothing) for the trajectory")
+        topic, msgtype, others = choose_pose_topic(ob, params.topic)
+        if msgtype == GPS:
+            x, y = (read_path(ob, f"{topic}.{f}", lo, hi, progress) for f in ("longitude", "latitude"))
+        else:
+            position = POSE_SOURCES[msgtype].position
+            x, y = (read_path(ob, f"{topic}.{position}.{axis}", lo, hi, progress) for axis in "xy")
+        chosen = f"trajectory of {topic}" + (f" (other pose topics: {', '.join(others)})" if others else "")
+        return x, y, [chosen]
+
+    def scan(self, params: ScanPlotParams, progress: Progress) -> PlotReport:
+        def make(key: str) -> PlotReport:
+            with self._access.open(params.bag) as ob:
+                topic, msgtype = choose_lidar_topic(ob, params.topic)
+                if msgtype != SCAN:
+                    raise ArgumentError(f"{topic} is {msgtype}; plot_lidar_scan draws LaserScan topics")
+                raw = ob.nearest(topic, ob.time(params.time))
+                message = ob.reader.decode(raw)
+                ranges = np.asarray(getattr(message, "ranges"), dtype=np.float64)  # noqa: B009
+                start_rad, step_rad = float(getattr(message, "angle_min")), float(getattr(message, "angle_increment"))  # noqa: B009
+                angles = (start_rad + np.arange(ranges.size) * step_rad).astype(np.float64)
+                low, high = float(getattr(message, "range_min")), float(getattr(message, "range_max"))  # noqa: B009
+                valid = np.isfinite(ranges) & (ranges >= low) & (ranges <= high)
+                when = ob.instant(raw.log_time_ns)
+                title = f"{topic} at {when.offset_s:.2f} s ({ob.name})"
+                shown = np.where(valid, ranges, np.nan)
+                png = render_scan(
+                    angles_rad=angles, ranges_m=shown, title=title, range_max_m=high, within_m=params.within_m
+                )
+                closest = float(ranges[valid].min()) if valid.any() else None
+                report = PlotReport(
+                    bags=[ob.name],
+                    title=title,
+                    start=when,
+                    end=when,
+                    series=[
+                        SeriesOut(
+                            name=f"{topic}.ranges",
+                            unit="m",
+                            points=int(valid.sum()),
+                            min=closest,
+                            max=float(ranges[valid].max()) if valid.any() else None,
+                        )
+                    ],
+                    artifact=_PENDING,
+                    notes=[f"{int((~valid).sum())} invalid ranges (NaN, inf or outside range_min..range_max) left out"],
+                )
+                return self._store(key, png, report)
+
+        return self._plot("scan", params, [params.bag], make)
+
+    def histogram(self, params: HistogramParams, progress: Progress) -> PlotReport:
+        def make(key: str) -> PlotReport:
+            with self._access.open(params.bag) as ob:
+                lo, hi = ob.window(params.start, params.end)
+                series = read_path(ob, params.path, lo, hi, progress)
+                title = f"{series.name} ({_window_title(ob, lo, hi)})"
+                png = render_histogram(
+                    series.values, bins=params.bins, label=series.name, unit=series.unit, title=title
+                )
+                report = PlotReport(
+                    bags=[ob.name],
+                    title=title,
+                    start=ob.instant(lo),
+                    end=ob.instant(hi),
+                    series=[_series_out(series)],
+                    artifact=_PENDING,
+                    notes=[],
+                )
+                return self._store(key, png, report)
+
+        return self._plot("histogram", params, [params.bag], make)
+
+    def compare(self, params: CompareParams, progress: Progress) -> PlotReport:
+        def make(key: str) -> PlotReport:
+            lines, summaries, notes, names = [], [], [], []
+            first_start = first_end = None
+            for bag in params.bags:
+                with self._access.open(bag) as ob:
+                    series = read_path(ob, params.path, ob.start_ns, ob.end_ns, progress)
+                    origin = _motion_start(ob, progress) if params.align == "motion" else ob.start_ns
+                    if origin is None:
+                        notes.append(f"{ob.name}: no motion found, aligned on its start")
+                        origin = ob.start_ns
+                    lines.append(Line(ob.name, series.unit, series.t_s(origin), series.values))
+                    summaries.append(_series_out(series).model_copy(update={"name": f"{ob.name}: {series.name}"}))
+                    names.append(ob.name)
+                    first_start = first_start or ob.instant(ob.start_ns)
+                    first_end = first_end or ob.instant(ob.end_ns)
+            unit = unit_of(params.path.partition(".")[2])
+            label = f"{params.path} [{unit}]" if unit else params.path
+            since = "first motion" if params.align == "motion" else "bag start"
+            title = f"{params.path}: {', '.join(names)}"
+            png = render_overlay(lines, title=title, y_label=label, x_label=f"time from {since} [s]")
+            report = PlotReport(
+                bags=names,
+                title=title,
+                start=first_start,
+                end=first_end,
+                series=summaries,
+                artifact=_PENDING,
+                notes=notes,
+            )
+            return self._store(key, png, report)
+
+        return self._plot("compare", params, params.bags, make)
+
+
+def _motion_start(ob: OpenBag, progress: Progress) -> int | None:
+    """Log time of the first pose that moved (speed over MOVING_MPS), or None."""
+    try:
+        topic, msgtype, _ = choose_pose_topic(ob, None)
+    except ArgumentError:
+        return None
+    if msgtype == GPS:
+        return None
+    position = POSE_SOURCES[msgtype].position
+    x, y = (read_path(ob, f"{topic}.{position}.{axis}", ob.start_ns, ob.end_ns, progress) for axis in "xy")
+    dt = np.diff(x.t_ns).astype(np.float64) / 1e9
+    speed = np.hypot(np.diff(x.values), np.diff(y.values)) / np.where(dt > 0, dt, math.inf)
+    moving = np.flatnonzero(speed > MOVING_MPS)
+    return int(x.t_ns[moving[0]]) if moving.size else None
+
+
+_PENDING = Artifact(id="", url="", mime_type="image/png", bytes=0, width=0, height=0)

@@ -1,0 +1,153 @@
+"""MCP adapters for the plots: the PNG inline as image content, a link to the stored artifact, and a
+summary of what was plotted (long reads become jobs on the plotting queue)."""
+
+from __future__ import annotations
+
+import base64
+from typing import Annotated, Literal
+
+from mcp.server.mcpserver import Context
+from mcp.types import CallToolResult, ContentBlock, ImageContent, ResourceLink
+from pydantic import Field
+
+from bagmcp_kit.answers import tool_errors
+from bagmcp_kit.arguments import BagRef, TimeArg, params_of
+from bagmcp_kit.jobs import LongAnswer
+from bagmcp_kit.longwork import LongWork
+from bagmcp_plotting.artifacts import Artifacts
+from bagmcp_plotting.data import path_is_indexed
+from bagmcp_plotting.job_kinds import (
+    COMPARE_RUNS,
+    PLOT_2D,
+    PLOT_HISTOGRAM,
+    PLOT_SCAN,
+    PLOT_TIMESERIES,
+    CompareParams,
+    HistogramParams,
+    ScanPlotParams,
+    TimeseriesParams,
+    XYParams,
+)
+from bagmcp_plotting.reports import PlotReport
+from bagmcp_shared.access import BagAccess
+from bagmcp_shared.topics import choose_pose_topic
+
+Path = Annotated[str, Field(description="message path, e.g. /odom.twist.twist.linear.x")]
+Answer = Annotated[CallToolResult, LongAnswer[PlotReport]]
+
+
+def _summary(report: PlotReport) -> str:
+    parts = ", ".join(f"{s.name} ({s.points} points, {s.min:.4g}..{s.max:.4g})" for s in report.series if s.points)
+    return f"{report.title}: {parts or 'no finite points'}; image at {report.artifact.url}"
+
+
+class PlotTools:
+    def __init__(self, access: BagAccess, work: LongWork, artifacts: Artifacts) -> None:
+        self._access = access
+        self._work = work
+        self._artifacts = artifacts
+
+    def _attach(self, report: PlotReport) -> list[ContentBlock]:
+        png = self._artifacts.png(report.artifact.id)
+        image = ImageContent(type="image", data=base64.b64encode(png).decode(), mime_type="image/png")
+        uri = report.artifact.url if "://" in report.artifact.url else f"bagmcp://artifacts/{report.artifact.id}"
+        link = ResourceLink(type="resource_link", uri=uri, name=f"{report.artifact.id}.png", mime_type="image/png")
+        return [image, link]
+
+    def _indexed(self, bag: str, paths: list[str]) -> bool:
+        with self._access.open(bag) as ob:
+            return all(path_is_indexed(ob, p) or ob.short(ob.topic_name(p.partition(".")[0])) for p in paths)
+
+    async def plot_timeseries(
+        self,
+        ctx: Context,
+        bag: BagRef,
+        paths: Annotated[list[str], Field(min_length=1, max_length=8, description="message paths (1-8)")],
+        start: TimeArg | None = None,
+        end: TimeArg | None = None,
+        style: Literal["line", "step", "scatter"] = "line",
+        title: Annotated[str | None, Field(description="default: the paths and window")] = None,
+    ) -> Answer:
+        """Plot message paths over time (s from bag start); different scales get a second axis or panels.
+        Example: paths=["/cmd_vel.linear.x", "/odom.twist.twist.linear.x"]."""
+        with tool_errors():
+            params = params_of(TimeseriesParams, bag=bag, paths=paths, start=start, end=end, style=style, title=title)
+        return await self._work.run(
+            ctx, PLOT_TIMESERIES, params, _summary, small=lambda p: self._indexed(p.bag, p.paths), attach=self._attach
+        )
+
+    async def plot_2d(
+        self,
+        ctx: Context,
+        bag: BagRef,
+        x: Annotated[str | None, Field(description="message path for x")] = None,
+        y: Annotated[str | None, Field(description="message path for y (same topic as x)")] = None,
+        topic: Annotated[str | None, Field(description="pose topic (default: the obvious one)")] = None,
+        start: TimeArg | None = None,
+        end: TimeArg | None = None,
+        color_by_time: bool = False,
+    ) -> Answer:
+        """XY plot of two fields; without x and y, the trajectory of a pose topic (equal aspect, start and
+        end marked)."""
+        with tool_errors():
+            params = params_of(
+                XYParams, bag=bag, x=x, y=y, topic=topic, start=start, end=end, color_by_time=color_by_time
+            )
+        small = (lambda p: self._indexed(p.bag, [p.x, p.y])) if x and y else None
+        return await self._work.run(
+            ctx, PLOT_2D, params, _summary, small=small or self._trajectory_small, attach=self._attach
+        )
+
+    def _trajectory_small(self, params: XYParams) -> bool:
+        with self._access.open(params.bag) as ob:
+            topic, _, _ = choose_pose_topic(ob, params.topic)
+            return ob.indexed(topic) or ob.short(topic)
+
+    async def plot_lidar_scan(
+        self,
+        ctx: Context,
+        bag: BagRef,
+        time: TimeArg,
+        topic: Annotated[str | None, Field(description="LaserScan topic (default: the obvious one)")] = None,
+        within: Annotated[float | None, Field(gt=0, description="m: draw this circle")] = None,
+    ) -> Answer:
+        """Polar plot of the scan nearest a time: robot at the centre, forward up, invalid ranges left out."""
+        with tool_errors():
+            params = params_of(ScanPlotParams, bag=bag, topic=topic, time=time, within_m=within)
+        return await self._work.run(ctx, PLOT_SCAN, params, _summary, small=lambda p: True, attach=self._attach)
+
+    async def plot_histogram(
+        self,
+        ctx: Context,
+        bag: BagRef,
+        path: Path,
+        start: TimeArg | None = None,
+        end: TimeArg | None = None,
+        bins: Annotated[int | None, Field(ge=2, le=500, description="default: automatic")] = None,
+    ) -> Answer:
+        """Distribution of one message path, with count, mean and percentiles in the legend."""
+        with tool_errors():
+            params = params_of(HistogramParams, bag=bag, path=path, start=start, end=end, bins=bins)
+        return await self._work.run(
+            ctx, PLOT_HISTOGRAM, params, _summary, small=lambda p: self._indexed(p.bag, [p.path]), attach=self._attach
+        )
+
+    async def compare_runs(
+        self,
+        ctx: Context,
+        bags: Annotated[list[str], Field(min_length=1, max_length=6, description="bag ids or names (1-6)")],
+        path: Path,
+        align: Literal["start", "motion"] = "start",
+    ) -> Answer:
+        """The same message path from up to 6 bags overlaid, aligned on each bag's start or first motion.
+        Example: bags=["run1", "run2"], path="/odom.twist.twist.linear.x"."""
+        with tool_errors():
+            params = params_of(CompareParams, bags=bags, path=path, align=align)
+        return await self._work.run(
+            ctx,
+            COMPARE_RUNS,
+            params,
+            _summary,
+            small=lambda p: all(self._indexed(b, [p.path]) for b in p.bags),
+            attach=self._attach,
+        )

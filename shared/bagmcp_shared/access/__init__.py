@@ -1,0 +1,7 @@
+"""Bag access: local files of catalogued bags, the bounded cache of opened bags, and opening them."""
+
+from bagmcp_shared.access.files import BagFiles, CachedBagFiles, FolderBagFiles, IndexPublisher
+from bagmcp_shared.access.opened import BagAccess, OpenBag
+from bagmcp_shared.access.readers import ReaderCache
+
+__all__ = ["BagAccess", "BagFiles", "CachedBagFiles", "FolderBagFiles", "IndexPublisher", "OpenBag", "ReaderCache"]

@@ -1,0 +1,178 @@
+"""Local paths of a bag's files and index: straight from a served folder, or from a bounded S3 cache;
+and publishing a built index where every process finds it."""
+
+from __future__ import annotations
+
+import fcntl
+import os
+import shutil
+import threading
+import time
+from collections.abc import Iterator
+from contextlib import contextmanager, suppress
+from pathlib import Path
+from typing import Protocol
+
+from bagmcp_shared import keys
+from bagmcp_shared.catalog.models import BagRecord
+from bagmcp_shared.errors import StorageError
+from bagmcp_shared.storage import LocalStore, ObjectStore
+
+_COMPLETE = ".complete"
+
+
+class BagFiles(Protocol):
+    def path_for(self, record: BagRecord) -> Path:
+        """A local path ``open_bag`` can read: the file, or the ROS 2 bag directory."""
+        ...
+
+    def index_dir(self, record: BagRecord) -> Path | None:
+        """The local directory of the bag's columnar index, or None when it has none."""
+        ...
+
+
+class IndexPublisher(Protocol):
+    def publish_index(self, record: BagRecord, built: Path) -> list[str]:
+        """Make an index built in ``built`` available to every process; returns its file names."""
+        ...
+
+
+class FolderBagFiles:
+    """Embedded mode: bags under one served folder (never written to), bags the server made itself
+    (filter_bag) in a local store, and indexes in a writable directory."""
+
+    def __init__(self, root: Path, index_root: Path, store: LocalStore) -> None:
+        self._root = root.resolve()
+        self._index_root = index_root
+        self._store = store
+        index_root.mkdir(parents=True, exist_ok=True)
+
+    def path_for(self, record: BagRecord) -> Path:
+        if record.in_store:
+            path = self._store.local_path(record.source)
+            return path / record.files[0] if record.layout == "file" else path
+        path = (self._root / record.source).resolve()
+        if not path.is_relative_to(self._root) or not path.exists():
+            raise StorageError(f"bag {record.name} is no longer under the served folder {self._root}")
+        return path
+
+    def index_dir(self, record: BagRecord) -> Path | None:
+        path = self._index_root / record.id
+        return path if (path / _COMPLETE).exists() else None
+
+    def publish_index(self, record: BagRecord, built: Path) -> list[str]:
+        target = self._index_root / record.id
+        (built / _COMPLETE).touch()
+        shutil.rmtree(target, ignore_errors=True)
+        shutil.move(built, target)
+        return sorted(p.name for p in target.iterdir() if p.name != _COMPLETE)
+
+
+class CachedBagFiles:
+    """Team mode: bag files live in the object store; each process keeps a bounded local cache by id.
+
+    Fetches of one bag are serialized across threads and processes (a lock file per entry), so
+    two workers never download the same bag at once and eviction skips entries being fetched.
+    """
+
+    def __init__(self, store: ObjectStore, cache_dir: Path, *, max_bytes: int, min_idle_s: float = 60.0) -> None:
+        self._store = store
+        self._dir = cache_dir
+        self._max_bytes = max_bytes
+        self._min_idle_s = min_idle_s
+        self._guard = threading.Lock()
+        self._guard_evict = threading.Lock()
+        self._locks: dict[str, threading.Lock] = {}
+        cache_dir.mkdir(parents=True, exist_ok=True)
+
+    @contextmanager
+    def _locked(self, name: str) -> Iterator[None]:
+        with self._guard:
+            lock = self._locks.setdefault(name, threading.Lock())
+        with lock, (self._dir / f".lock-{name}").open("a") as handle:
+            fcntl.flock(handle, fcntl.LOCK_EX)
+            try:
+                yield
+            finally:
+                fcntl.flock(handle, fcntl.LOCK_UN)
+
+    def _ensure(self, name: str, wanted: list[str], *, bag_id: str) -> Path:
+        """The complete local copy of the objects ``wanted`` under ``name``, fetched if needed, marked as
+        just used (eviction spares entries used within ``min_idle_s``, so the caller can read it now).
+
+        An entry is complete when its marker exists and it holds every wanted file: the same content
+        stored again under other file names is fetched again, never read under the old names."""
+        root = self._dir / name
+        with self._locked(name):  # eviction takes the same lock, so it cannot remove the entry meanwhile
+            present = (root / _COMPLETE).exists() and all((root / k.rsplit("/", 1)[-1]).exists() for k in wanted)
+            if not present:
+                self._fetch_objects(wanted, root)
+            os.utime(root / _COMPLETE)
+        self._evict(keep={bag_id, f"{bag_id}-index"})
+        return root
+
+    def path_for(self, record: BagRecord) -> Path:
+        root = self._ensure(record.id, [keys.bag_file(record.id, name) for name in record.files], bag_id=record.id)
+        return root / record.files[0] if record.layout == "file" else root
+
+    def index_dir(self, record: BagRecord) -> Path | None:
+        if not record.index_files:
+            return None
+        wanted = [keys.index_file(record.id, n) for n in record.index_files]
+        return self._ensure(f"{record.id}-index", wanted, bag_id=record.id)
+
+    def publish_index(self, record: BagRecord, built: Path) -> list[str]:
+        names = sorted(p.name for p in built.iterdir() if p.is_file())
+        for name in names:
+            self._store.put_file(keys.index_file(record.id, name), built / name)
+        return names
+
+    def _fetch_objects(self, wanted: list[str], root: Path) -> None:
+        """Download the objects ``wanted`` into ``root`` (named by their last part), all or nothing; the
+        completion marker is written last, after the rename."""
+        partial = self._dir / f".partial-{root.name}-{os.getpid()}-{threading.get_ident()}"
+        shutil.rmtree(partial, ignore_errors=True)
+        partial.mkdir(parents=True)
+        try:
+            for key in wanted:
+                self._store.download_to(key, partial / key.rsplit("/", 1)[-1])
+            shutil.rmtree(root, ignore_errors=True)
+            partial.rename(root)
+            (root / _COMPLETE).touch()
+        finally:
+            shutil.rmtree(partial, ignore_errors=True)
+
+    def _entries(self) -> list[tuple[float, int, Path]]:
+        """(last use, bytes, path) of every complete entry."""
+        found = []
+        for entry in self._dir.iterdir():
+            if entry.name.startswith("."):
+                continue
+            with suppress(FileNotFoundError):
+                used = (entry / _COMPLETE).stat().st_mtime
+                found.append((used, sum(f.stat().st_size for f in entry.iterdir()), entry))
+        return found
+
+    def _evict(self, *, keep: set[str]) -> None:
+        """Remove least recently used entries past the limit; never one in ``keep``, one being fetched,
+        or one used within ``min_idle_s`` (it may still be open)."""
+        with self._guard_evict, (self._dir / ".evict.lock").open("a") as handle:
+            fcntl.flock(handle, fcntl.LOCK_EX)
+            entries = self._entries()
+            total = sum(size for _, size, _ in entries)
+            idle_before = time.time() - self._min_idle_s
+            for used, size, entry in sorted(entries):
+                if total <= self._max_bytes:
+                    break
+                if entry.name not in keep and used < idle_before and self._try_remove(entry):
+                    total -= size
+
+    def _try_remove(self, entry: Path) -> bool:
+        with (self._dir / f".lock-{entry.name}").open("a") as handle:
+            try:
+                fcntl.flock(handle, fcntl.LOCK_EX | fcntl.LOCK_NB)
+            except BlockingIOError:
+                return False
+            shutil.rmtree(entry, ignore_errors=True)
+            fcntl.flock(handle, fcntl.LOCK_UN)
+        return True

@@ -1,0 +1,124 @@
+"""Bag access for queries: resolve what the caller calls a bag, check it is ready, open it from the
+bounded cache, and answer time questions about it."""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from contextlib import contextmanager
+from dataclasses import dataclass
+
+from bagmcp_shared.access.files import BagFiles
+from bagmcp_shared.access.readers import ReaderCache
+from bagmcp_shared.bags import BagReader, RawMessage
+from bagmcp_shared.catalog import BagRecord, Catalog, CatalogSummary, TopicStats, ready_record, resolve_bag
+from bagmcp_shared.errors import ArgumentError, TimeError, TopicNotFoundError
+from bagmcp_shared.index import ColumnIndex
+from bagmcp_shared.timebase import Instant, TimeInput, iso_from_ns, parse_time
+
+SHORT_TOPIC = 5_000  # messages decoded inline, without a job
+
+
+@dataclass(frozen=True)
+class OpenBag:
+    """A ready bag, open for reading, with its catalog summary and (when built) columnar index."""
+
+    record: BagRecord
+    summary: CatalogSummary
+    reader: BagReader
+    index: ColumnIndex | None
+
+    @property
+    def start_ns(self) -> int:
+        return self.summary.start_ns or 0
+
+    @property
+    def end_ns(self) -> int:
+        return self.summary.end_ns or 0
+
+    @property
+    def name(self) -> str:
+        return self.record.name
+
+    def topic(self, name: str) -> TopicStats:
+        """Counts and bounds of a topic (leading slash optional) from the catalog."""
+        found = self.summary.topic(name)
+        if found is None:
+            self.reader.topic_connections(name)  # raises with the list of topics
+            raise TopicNotFoundError(f"topic {name!r} is not in {self.record.name}")
+        return found
+
+    def topic_name(self, name: str) -> str:
+        """The topic's name as the bag spells it (the caller may leave out or add a leading slash)."""
+        return self.reader.topic_connections(name)[0].topic
+
+    def msgtype(self, topic: str) -> str:
+        return self.reader.topic_connections(topic)[0].msgtype
+
+    def indexed(self, topic: str) -> bool:
+        """Whether the columnar index holds columns of ``topic``."""
+        return self.index is not None and bool(self.index.columns(topic))
+
+    def short(self, topic: str) -> bool:
+        """Whether ``topic`` is short enough to decode while a caller waits (no job needed)."""
+        return self.topic(topic).count <= SHORT_TOPIC
+
+    def nearest(self, topic: str, stamp_ns: int) -> RawMessage:
+        """The message of ``topic`` whose log time is nearest ``stamp_ns``, reading only around it."""
+        stats = self.topic(topic)
+        if not stats.count:
+            raise ArgumentError(f"topic {topic} has no messages in bag {self.record.name}")
+        radius = max(2 * max(self.end_ns - self.start_ns, 1) // stats.count, 1_000_000)
+        while True:
+            window = list(self.reader.messages([topic], start_ns=stamp_ns - radius, stop_ns=stamp_ns + radius + 1))
+            if window:
+                return min(window, key=lambda m: abs(m.log_time_ns - stamp_ns))
+            radius *= 4
+
+    def instant(self, stamp_ns: int) -> Instant:
+        return Instant.of(stamp_ns, start_ns=self.start_ns)
+
+    def time(self, value: TimeInput, *, what: str = "time") -> int:
+        """Parse a caller's time and check that it lies inside the bag."""
+        stamp_ns = parse_time(value, start_ns=self.start_ns)
+        if not self.start_ns <= stamp_ns <= self.end_ns:
+            duration = (self.end_ns - self.start_ns) / 1e9
+            raise TimeError(
+                f"{what} {value!r} is outside the bag {self.record.name}, which spans 0 .. {duration:.3f} s "
+                f"from its start ({iso_from_ns(self.start_ns)} .. {iso_from_ns(self.end_ns)})"
+            )
+        return stamp_ns
+
+    def window(self, start: TimeInput | None, end: TimeInput | None) -> tuple[int, int]:
+        """The caller's [start, end] in epoch ns; the whole bag where a bound is omitted."""
+        lo = self.time(start, what="start") if start is not None else self.start_ns
+        hi = self.time(end, what="end") if end is not None else self.end_ns
+        if lo > hi:
+            raise ArgumentError(f"start ({start}) must not be after end ({end})")
+        return lo, hi
+
+
+class BagAccess:
+    """What a query needs to reach a bag: the catalog, the bag's local files, the opened-bag cache."""
+
+    def __init__(self, catalog: Catalog, files: BagFiles, *, cache: ReaderCache | None = None) -> None:
+        self.catalog = catalog
+        self.files = files
+        self.cache = cache or ReaderCache()
+
+    def record(self, ref: str) -> BagRecord:
+        return resolve_bag(self.catalog, ref)
+
+    def ready(self, ref: str) -> BagRecord:
+        return ready_record(self.catalog, ref)
+
+    @contextmanager
+    def open(self, ref: str, *, need_messages: bool = True) -> Iterator[OpenBag]:
+        """A ready bag, open for reading. Questions about time need messages; questions about types do not."""
+        record = self.ready(ref)
+        summary = record.summary
+        if summary is None or ((summary.start_ns is None or summary.end_ns is None) and need_messages):
+            raise TimeError(f"bag {record.name} has no messages")
+        path = self.files.path_for(record)
+        index = self.cache.index(record.id, path, lambda: ColumnIndex.load(self.files.index_dir(record)))
+        with self.cache.reader(record.id, path) as reader:
+            yield OpenBag(record, summary, reader, index)

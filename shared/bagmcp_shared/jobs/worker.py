@@ -1,0 +1,36 @@
+"""A service's Celery worker for its jobs: the task that runs them, bound lazily in the worker process."""
+
+from __future__ import annotations
+
+import functools
+from collections.abc import Callable
+
+from celery import Celery
+
+from bagmcp_shared.jobs.kinds import JobRegistry
+from bagmcp_shared.jobs.run import run_job
+from bagmcp_shared.jobs.store import JobStore
+from bagmcp_shared.resources import Resources, team_resources
+from bagmcp_shared.settings import Env, TeamSettings
+from bagmcp_shared.tasks import TaskRef, create_celery
+
+
+def register_job_task(
+    app: Celery, task: TaskRef, registry: Callable[[], JobRegistry], jobs: Callable[[], JobStore]
+) -> None:
+    """Bind ``task`` to running jobs; ``registry`` and ``jobs`` are called in the worker process."""
+
+    @app.task(name=task.name)  # type: ignore[untyped-decorator]
+    def job(job_id: str) -> str:
+        return str(run_job(registry(), jobs(), job_id))
+
+
+def job_worker(task: TaskRef, build: Callable[[Resources], JobRegistry]) -> tuple[Celery, Callable[[], Resources]]:
+    """A Celery app that takes only ``task.queue`` and runs its jobs (settings from BAGMCP_*); also returns
+    the lazily built resources, for services with more tasks than jobs."""
+    settings = TeamSettings.from_env(Env())
+    app = create_celery(settings.redis_url, queue=task.queue, visibility_timeout_s=settings.task_visibility_timeout_s)
+    resources = functools.cache(lambda: team_resources(settings, queue=task.queue))
+    registry = functools.cache(lambda: build(resources()))
+    register_job_task(app, task, registry, lambda: resources().jobs)
+    return app, resources

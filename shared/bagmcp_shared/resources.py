@@ -1,0 +1,118 @@
+"""What every service process is built from, for each way of running: the catalog, bag files and
+index publishing, the job store, the background runner, object storage and bag access.
+
+The composition root (a service's entry point, or the embedded command) builds one of these and
+hands each function only the pieces it needs.
+"""
+
+from __future__ import annotations
+
+import logging
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+import redis
+
+from bagmcp_shared.access import BagAccess, BagFiles, CachedBagFiles, FolderBagFiles, IndexPublisher, ReaderCache
+from bagmcp_shared.catalog import Catalog, MemoryCatalog, RedisCatalog
+from bagmcp_shared.errors import StorageError
+from bagmcp_shared.jobs import JobStore, MemoryJobStore, RedisJobStore
+from bagmcp_shared.settings import S3Settings, TeamSettings
+from bagmcp_shared.storage import LocalStore, ObjectStore, S3Store
+from bagmcp_shared.tasks import CeleryRunner, Runner, ThreadRunner, create_celery
+
+log = logging.getLogger(__name__)
+
+
+@dataclass(frozen=True)
+class Resources:
+    """``store`` is where new bags and artifacts go; ``uploads`` False refuses REST uploads."""
+
+    catalog: Catalog
+    files: BagFiles
+    indexes: IndexPublisher
+    jobs: JobStore
+    runner: Runner
+    store: ObjectStore
+    access: BagAccess
+    uploads: bool = True
+    max_result_bytes: int = 16_000
+    job_budget_s: float = 20.0
+
+
+@dataclass(frozen=True)
+class Embedded:
+    resources: Resources
+    runner: ThreadRunner
+    folder: Path
+    data_dir: Path
+
+
+def embedded_resources(folder: Path, data_dir: Path, *, job_budget_s: float = 20.0) -> Embedded:
+    """One process over a read-only folder: memory catalog and jobs, a thread runner, indexes and
+    the bags and artifacts the server makes under ``data_dir``."""
+    store = LocalStore(data_dir / "store")
+    files = FolderBagFiles(folder, data_dir / "index", store)
+    catalog = MemoryCatalog()
+    jobs = MemoryJobStore()
+    runner = ThreadRunner()
+    runner.on_shutdown(jobs.cancel_unfinished)
+    resources = Resources(
+        catalog=catalog,
+        files=files,
+        indexes=files,
+        jobs=jobs,
+        runner=runner,
+        store=store,
+        access=BagAccess(catalog, files),
+        uploads=False,
+        job_budget_s=job_budget_s,
+    )
+    return Embedded(resources, runner, folder, data_dir)
+
+
+def s3_store(settings: S3Settings, *, wait_s: float = 60.0) -> S3Store:
+    """The S3 store with its bucket; waits up to ``wait_s`` for a server that is still starting."""
+    store = S3Store(
+        endpoint=settings.endpoint,
+        access_key=settings.access_key,
+        secret_key=settings.secret_key,
+        bucket=settings.bucket,
+        secure=settings.secure,
+        read_timeout_s=settings.read_timeout_s,
+    )
+    deadline = time.monotonic() + wait_s
+    while True:
+        try:
+            store.ensure_bucket()
+            return store
+        except StorageError as err:
+            if time.monotonic() > deadline:
+                raise
+            log.warning("waiting for the object store: %s", err)
+            time.sleep(1.0)
+
+
+def redis_client(url: str) -> redis.Redis:
+    return redis.Redis.from_url(url, socket_connect_timeout=3, socket_timeout=10, health_check_interval=30)
+
+
+def team_resources(settings: TeamSettings, *, queue: str) -> Resources:
+    """Team mode: S3 for bags, indexes and artifacts, Redis for the catalog and jobs, Celery for work."""
+    store = s3_store(settings.s3)
+    client = redis_client(settings.redis_url)
+    files = CachedBagFiles(store, settings.cache_dir, max_bytes=settings.cache_max_bytes)
+    catalog = RedisCatalog(client)
+    app = create_celery(settings.redis_url, queue=queue, visibility_timeout_s=settings.task_visibility_timeout_s)
+    return Resources(
+        catalog=catalog,
+        files=files,
+        indexes=files,
+        jobs=RedisJobStore(client),
+        runner=CeleryRunner(app),
+        store=store,
+        access=BagAccess(catalog, files, cache=ReaderCache()),
+        max_result_bytes=settings.max_result_bytes,
+        job_budget_s=settings.job_budget_s,
+    )

@@ -1,0 +1,160 @@
+"""Settings every service shares, read once from ``BAGMCP_*`` environment variables at the entry point.
+
+Nothing else in the project reads the environment: services compose these into their own
+settings and pass the values down.
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Mapping
+from dataclasses import dataclass
+from pathlib import Path
+
+from bagmcp_shared.errors import SettingsError
+
+PLACEHOLDER_SECRETS = frozenset({"", "changeme", "change-me", "secret", "password", "replace-me"})
+LOOPBACK_HOSTS = ("127.0.0.1:*", "localhost:*", "[::1]:*")
+
+
+class Env:
+    """Typed access to environment variables, with errors that name the variable."""
+
+    def __init__(self, environ: Mapping[str, str] | None = None) -> None:
+        self._env = dict(os.environ) if environ is None else dict(environ)
+
+    def text(self, key: str, default: str) -> str:
+        return self._env.get(key) or default
+
+    def optional(self, key: str) -> str | None:
+        return self._env.get(key) or None
+
+    def need(self, key: str) -> str:
+        value = self._env.get(key, "")
+        if not value:
+            raise SettingsError(f"{key} must be set")
+        return value
+
+    def secret(self, key: str) -> str:
+        """A required secret that must not be a placeholder such as "changeme"."""
+        value = self.need(key)
+        if value.lower() in PLACEHOLDER_SECRETS or value.lower().startswith("replace-with"):
+            raise SettingsError(f"{key} must be set to a real secret, not a placeholder")
+        return value
+
+    def number(self, key: str, default: float) -> float:
+        return float(self._parse(key, default, float))
+
+    def integer(self, key: str, default: int) -> int:
+        return int(self._parse(key, default, int))
+
+    def flag(self, key: str, default: bool) -> bool:
+        raw = self._env.get(key)
+        return default if not raw else raw.strip().lower() in ("1", "true", "yes", "on")
+
+    def items(self, key: str, default: tuple[str, ...] = ()) -> tuple[str, ...]:
+        raw = self._env.get(key)
+        return default if raw is None else tuple(p.strip() for p in raw.split(",") if p.strip())
+
+    def _parse(self, key: str, default: float, kind: type[float] | type[int]) -> float:
+        raw = self._env.get(key)
+        if not raw:
+            return default
+        try:
+            return kind(raw)
+        except ValueError as err:
+            raise SettingsError(f"{key} must be a number, got {raw!r}") from err
+
+
+@dataclass(frozen=True)
+class S3Settings:
+    endpoint: str
+    access_key: str
+    secret_key: str
+    bucket: str = "bagmcp"
+    secure: bool = False
+    read_timeout_s: float = 60.0
+
+    @classmethod
+    def from_env(cls, env: Env) -> S3Settings:
+        return cls(
+            endpoint=env.need("BAGMCP_S3_ENDPOINT"),
+            access_key=env.need("BAGMCP_S3_ACCESS_KEY"),
+            secret_key=env.secret("BAGMCP_S3_SECRET_KEY"),
+            bucket=env.text("BAGMCP_S3_BUCKET", "bagmcp"),
+            secure=env.flag("BAGMCP_S3_SECURE", False),
+            read_timeout_s=env.number("BAGMCP_S3_READ_TIMEOUT_S", 60.0),
+        )
+
+
+@dataclass(frozen=True)
+class HttpSettings:
+    """Where a process listens and which Host headers it answers (DNS-rebinding protection)."""
+
+    host: str = "127.0.0.1"
+    port: int = 8000
+    allowed_hosts: tuple[str, ...] = LOOPBACK_HOSTS
+
+    @classmethod
+    def from_env(cls, env: Env, *, port: int, extra_hosts: tuple[str, ...] = ()) -> HttpSettings:
+        return cls(
+            host=env.text("BAGMCP_HOST", "127.0.0.1"),
+            port=env.integer("BAGMCP_PORT", port),
+            allowed_hosts=env.items("BAGMCP_ALLOWED_HOSTS", (*LOOPBACK_HOSTS, *extra_hosts)),
+        )
+
+
+@dataclass(frozen=True)
+class TeamSettings:
+    """What every service process needs in team mode: Redis, S3, the service token, local data."""
+
+    redis_url: str
+    s3: S3Settings
+    service_token: str
+    data_dir: Path
+    cache_max_bytes: int = 20 * 2**30
+    max_result_bytes: int = 16_000
+    job_budget_s: float = 20.0
+    task_visibility_timeout_s: int = 3600
+
+    @classmethod
+    def from_env(cls, env: Env) -> TeamSettings:
+        return cls(
+            redis_url=env.need("BAGMCP_REDIS_URL"),
+            s3=S3Settings.from_env(env),
+            service_token=env.secret("BAGMCP_SERVICE_TOKEN"),
+            data_dir=Path(env.text("BAGMCP_DATA_DIR", "/var/lib/bagmcp")),
+            cache_max_bytes=env.integer("BAGMCP_CACHE_MAX_BYTES", 20 * 2**30),
+            max_result_bytes=env.integer("BAGMCP_MAX_RESULT_BYTES", 16_000),
+            job_budget_s=env.number("BAGMCP_JOB_BUDGET_S", 20.0),
+            task_visibility_timeout_s=env.integer("BAGMCP_TASK_VISIBILITY_TIMEOUT_S", 3600),
+        )
+
+    @property
+    def cache_dir(self) -> Path:
+        return self.data_dir / "cache"
+
+
+@dataclass(frozen=True)
+class ServiceSettings:
+    """A service process in team mode: the shared team settings, where it listens, its public URL."""
+
+    team: TeamSettings
+    http: HttpSettings
+    public_url: str
+
+    @classmethod
+    def from_env(cls, env: Env, *, name: str, port: int) -> ServiceSettings:
+        """``name`` is the service's host name in compose (accepted in the Host header)."""
+        http = HttpSettings.from_env(env, port=port, extra_hosts=(f"{name}:*", f"{name.replace('-', '_')}:*"))
+        return cls(
+            team=TeamSettings.from_env(env),
+            http=http,
+            public_url=env.text("BAGMCP_PUBLIC_URL", f"http://{http.host}:{http.port}"),
+        )
+
+
+def default_data_dir(env: Env) -> Path:
+    """Where an embedded server keeps indexes and the bags it makes (never inside the served folder)."""
+    cache = env.optional("XDG_CACHE_HOME") or str(Path.home() / ".cache")
+    return Path(env.optional("BAGMCP_DATA_DIR") or Path(cache) / "bagmcp")

@@ -1,0 +1,80 @@
+"""Every bag-store tool, called through an in-memory MCP client on the bag-store's own server."""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+from mcp import Client
+
+from tests.checks.first_tools import check_first_tools
+from tests.checks.search_checks import check_search, finished
+from tests.fixtures import scenario as sc
+from tests.fixtures.inprocess import InProcess
+from tests.fixtures.mcp_client import call, call_error
+from tests.unit.conftest import SCENARIO_NAMES
+
+pytestmark = pytest.mark.anyio
+
+
+async def test_the_catalog_and_message_tools_answer_on_three_formats(served: InProcess) -> None:
+    async with Client(served.service("bag-store"), cache=None) as client:
+        await check_first_tools(client, SCENARIO_NAMES)
+
+
+async def test_search_answers_on_three_formats(served: InProcess) -> None:
+    async with Client(served.service("bag-store"), cache=None) as client:
+        await check_search(client, SCENARIO_NAMES)
+
+
+async def test_filter_bag_makes_a_bag_that_bag_info_confirms(served: InProcess) -> None:
+    async with Client(served.service("bag-store"), cache=None) as client:
+        answer = await call(client, "filter_bag", bag="scenario_mcap", include_topics=["/cmd_vel"], name="cmd-unit")
+        result = await finished(client, answer)
+        assert result["counts"] == {"/cmd_vel": sc.COUNTS["/cmd_vel"]}
+        info = await call(client, "bag_info", bag="cmd-unit")
+        assert {t["name"]: t["count"] for t in info["topics"]} == {"/cmd_vel": sc.COUNTS["/cmd_vel"]}
+
+
+async def test_an_argument_the_tool_does_not_have_is_an_error_naming_the_valid_ones(served: InProcess) -> None:
+    async with Client(served.service("bag-store"), cache=None) as client:
+        text = await call_error(client, "get_messages_in_range", bag="scenario", topic="/odom", max_message=5)
+        assert "max_message" in text
+        assert "max_messages" in text
+
+
+async def test_every_tool_declares_its_annotations_and_output_schema(served: InProcess) -> None:
+    async with Client(served.service("bag-store"), cache=None) as client:
+        tools = (await client.list_tools()).tools
+    assert {t.name for t in tools} == {
+        "list_bags",
+        "bag_info",
+        "describe_topic",
+        "get_message_at_time",
+        "get_messages_in_range",
+        "search_messages",
+        "filter_bag",
+    }
+    for tool in tools:
+        hints = tool.annotations
+        assert hints is not None, tool.name
+        assert None not in (hints.read_only_hint, hints.destructive_hint, hints.idempotent_hint, hints.open_world_hint)
+        assert tool.output_schema is not None, tool.name
+
+
+async def test_a_thousand_points_of_two_fields_fit_the_answer_budget(served_drive: InProcess) -> None:
+    async with Client(served_drive.service("bag-store"), cache=None) as client:
+        answer = await client.call_tool(
+            "get_messages_in_range",
+            {
+                "bag": "drive_mcap",
+                "topic": "/odom",
+                "fields": ["pose.pose.position.x", "pose.pose.position.y"],
+                "layout": "columns",
+            },
+        )
+    data = answer.structured_content
+    assert data is not None
+    assert data["returned"] >= 900
+    assert len(json.dumps(data, separators=(",", ":"))) <= 16_000
+    assert max(data["columns"]["pose.pose.position.x"]) == pytest.approx(4.0, abs=1e-5)

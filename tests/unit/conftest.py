@@ -1,0 +1,35 @@
+"""Fixtures for unit tests: every service composed in this process over the scenario bags."""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from pathlib import Path
+
+import pytest
+
+from tests.fixtures.bagfactory import BagKind
+from tests.fixtures.drive_bags import write_drive_bags
+from tests.fixtures.inprocess import InProcess, copy_bags, in_process
+
+SCENARIO_NAMES = ["scenario", "scenario_db3", "scenario_mcap"]
+DRIVE_NAMES = ["drive", "drive_db3", "drive_mcap"]
+
+
+@pytest.fixture(scope="session")
+def served(scenario_bags: dict[BagKind, Path], tmp_path_factory: pytest.TempPathFactory) -> Iterator[InProcess]:
+    folder = copy_bags(list(scenario_bags.values()), tmp_path_factory.mktemp("served") / "bags")
+    with in_process(folder, tmp_path_factory.mktemp("data")) as services:
+        yield services
+
+
+@pytest.fixture(scope="session")
+def drive_bags(tmp_path_factory: pytest.TempPathFactory) -> dict[BagKind, Path]:
+    """The drive scenario (known geometry, logs, TF, images) in the three formats."""
+    return write_drive_bags(tmp_path_factory.mktemp("drive-bags"))
+
+
+@pytest.fixture(scope="session")
+def served_drive(drive_bags: dict[BagKind, Path], tmp_path_factory: pytest.TempPathFactory) -> Iterator[InProcess]:
+    folder = copy_bags(list(drive_bags.values()), tmp_path_factory.mktemp("served-drive") / "bags")
+    with in_process(folder, tmp_path_factory.mktemp("data")) as services:
+        yield services

@@ -1,0 +1,44 @@
+"""The gateway forwards only configured REST routes, never a path that could reach another endpoint."""
+
+from __future__ import annotations
+
+import pytest
+
+from bagmcp_gateway.proxy import route_of
+
+ROUTES = {"bags": "http://bag-store:8001", "artifacts": "http://plotting:8003"}
+
+
+@pytest.mark.parametrize(
+    ("path", "base"),
+    [
+        ("bags", "http://bag-store:8001"),
+        ("bags/scenario", "http://bag-store:8001"),
+        ("bags/a8fbb0c0/download", "http://bag-store:8001"),
+        ("bags/run_2024-01-01.v2", "http://bag-store:8001"),
+        ("bags/run..1", "http://bag-store:8001"),
+        ("artifacts/4f2a9c", "http://plotting:8003"),
+    ],
+)
+def test_configured_routes_are_forwarded_to_their_service(path: str, base: str) -> None:
+    assert route_of(path, ROUTES) == base
+
+
+@pytest.mark.parametrize(
+    "path",
+    [
+        "../mcp",
+        "..%2F..%2Fmcp",
+        "bags/../../mcp",
+        "bags/..",
+        "mcp",
+        "bags/x/download/more",
+        "healthz",
+        "bags/x/../y",
+        "bags/.hidden",
+        "bags//download",
+        "tokens",
+    ],
+)
+def test_anything_else_is_refused(path: str) -> None:
+    assert route_of(path, ROUTES) is None

@@ -1,0 +1,59 @@
+"""The whole tool surface, as a model reads it on every turn: small, described, annotated.
+
+Prints each tool's size (name + description + input schema, in characters) and the totals; the README
+states the same figures."""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+from mcp import Client
+from mcp.types import Tool
+
+from tests.fixtures.inprocess import InProcess
+
+pytestmark = pytest.mark.anyio
+AVERAGE_BUDGET, TOOL_BUDGET = 600, 1200
+
+
+def model_reads(tool: Tool) -> int:
+    return len(tool.name) + len(tool.description or "") + len(json.dumps(tool.input_schema, separators=(",", ":")))
+
+
+async def _tools(served: InProcess) -> list[Tool]:
+    async with Client(served.gateway(), cache=None) as client:
+        return list((await client.list_tools()).tools)
+
+
+async def test_every_tool_fits_the_size_budget_and_the_average_stays_under_it(served: InProcess) -> None:
+    tools = await _tools(served)
+    sizes = {t.name: model_reads(t) for t in tools}
+    outputs = sum(len(json.dumps(t.output_schema, separators=(",", ":"))) for t in tools if t.output_schema)
+    for name, size in sorted(sizes.items(), key=lambda item: -item[1]):
+        print(f"{name:24} {size:5}")
+    average = sum(sizes.values()) / len(sizes)
+    print(f"{len(sizes)} tools, {sum(sizes.values())} characters ({average:.0f} a tool); output schemas {outputs}")
+    assert max(sizes.values()) <= TOOL_BUDGET, sizes
+    assert average <= AVERAGE_BUDGET
+
+
+async def test_every_tool_sets_every_annotation_and_has_an_output_schema(served: InProcess) -> None:
+    for tool in await _tools(served):
+        hints = tool.annotations
+        assert hints is not None, tool.name
+        assert None not in (hints.read_only_hint, hints.destructive_hint, hints.idempotent_hint, hints.open_world_hint)
+        assert tool.output_schema is not None, tool.name
+
+
+async def test_every_argument_has_a_one_line_description(served: InProcess) -> None:
+    for tool in await _tools(served):
+        for name, schema in tool.input_schema.get("properties", {}).items():
+            described = schema.get("description") or schema.get("enum") or isinstance(schema.get("default"), bool)
+            assert described, f"{tool.name}.{name} has no description"
+            assert "\n" not in schema.get("description", ""), f"{tool.name}.{name}"
+
+
+async def test_schemas_carry_no_titles(served: InProcess) -> None:
+    for tool in await _tools(served):
+        assert '"title"' not in json.dumps(tool.input_schema).replace('"title": {', ""), tool.name

@@ -1,0 +1,93 @@
+"""The workers' local cache of bag files: fetched once by content id, bounded, least recently used out."""
+
+from __future__ import annotations
+
+import os
+import threading
+import time
+from pathlib import Path
+
+import pytest
+
+from bagmcp_shared.access import CachedBagFiles
+from bagmcp_shared.catalog import BagRecord
+from bagmcp_shared.errors import ObjectNotFoundError
+from bagmcp_shared.storage import LocalStore
+from tests.fixtures.records import stored_record
+
+
+def _record(store: LocalStore, bag_id: str, size: int) -> BagRecord:
+    store.put_bytes(f"bags/{bag_id}/{bag_id}.bag", bytes([len(bag_id)]) * size)
+    return stored_record(bag_id, bag_id, size=size)
+
+
+def test_a_cached_bag_is_fetched_once_and_then_served_locally(tmp_path: Path) -> None:
+    store = LocalStore(tmp_path / "objects")
+    cache = CachedBagFiles(store, tmp_path / "cache", max_bytes=10_000)
+    record = _record(store, "aaaa", 1000)
+    first = cache.path_for(record)
+    assert first.read_bytes() == bytes([4]) * 1000
+    store.delete("bags/aaaa/aaaa.bag")  # the cache must not need the store any more
+    assert cache.path_for(record) == first
+    assert first.stat().st_size == 1000
+
+
+def test_the_least_recently_used_bag_is_evicted_past_the_limit(tmp_path: Path) -> None:
+    store = LocalStore(tmp_path / "objects")
+    cache = CachedBagFiles(store, tmp_path / "cache", max_bytes=2500)
+    old, recent, new = (_record(store, name, 1000) for name in ("old", "recent", "newer"))
+    cache.path_for(old)
+    cache.path_for(recent)
+    past = time.time() - 100
+    os.utime(tmp_path / "cache" / "old" / ".complete", (past, past))
+    cache.path_for(new)
+    assert not (tmp_path / "cache" / "old").exists()
+    assert (tmp_path / "cache" / "recent" / "recent.bag").exists()
+    assert (tmp_path / "cache" / "newer" / "newer.bag").exists()
+
+
+def test_a_failed_fetch_leaves_no_partial_entry(tmp_path: Path) -> None:
+    store = LocalStore(tmp_path / "objects")
+    cache = CachedBagFiles(store, tmp_path / "cache", max_bytes=10_000)
+    record = _record(store, "gone", 10)
+    store.delete("bags/gone/gone.bag")
+    with pytest.raises(ObjectNotFoundError, match="gone"):
+        cache.path_for(record)
+    assert [p.name for p in (tmp_path / "cache").iterdir() if not p.name.startswith(".lock-")] == []
+
+
+def test_many_threads_fetching_and_evicting_never_fail_and_stay_near_the_limit(tmp_path: Path) -> None:
+    store = LocalStore(tmp_path / "objects")
+    records = [_record(store, f"bag{i:02d}", 200) for i in range(40)]
+    cache = CachedBagFiles(store, tmp_path / "cache", max_bytes=600, min_idle_s=0)
+    errors: list[BaseException] = []
+
+    def worker(offset: int) -> None:
+        for step in range(60):
+            try:
+                cache.path_for(records[(offset * 7 + step) % len(records)])
+            except BaseException as err:
+                errors.append(err)
+
+    threads = [threading.Thread(target=worker, args=(i,)) for i in range(8)]
+    for thread in threads:
+        thread.start()
+    for thread in threads:
+        thread.join()
+    assert errors == []
+    entries = [p for p in (tmp_path / "cache").iterdir() if (p / ".complete").exists()]
+    assert sum(f.stat().st_size for p in entries for f in p.iterdir()) <= 600 + 8 * 200  # limit + one per thread
+    assert not [p for p in (tmp_path / "cache").iterdir() if p.name.startswith(".partial-")]
+
+
+def test_the_same_content_stored_again_under_another_file_name_is_fetched_again(tmp_path: Path) -> None:
+    store = LocalStore(tmp_path / "objects")
+    cache = CachedBagFiles(store, tmp_path / "cache", max_bytes=10_000)
+    first = _record(store, "same", 100)
+    assert cache.path_for(first).name == "same.bag"
+    store.delete("bags/same/same.bag")  # deleted, then uploaded again under another name
+    store.put_bytes("bags/same/renamed.bag", bytes([4]) * 100)
+    again = first.model_copy(update={"files": ["renamed.bag"], "name": "renamed"})
+    path = cache.path_for(again)
+    assert path.name == "renamed.bag"
+    assert path.read_bytes() == bytes([4]) * 100
