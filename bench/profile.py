@@ -17,6 +17,8 @@ from tests.fixtures.processes import BIN
 _LINE = re.compile(r"^(?P<stack>.*) (?P<count>\d+)$")
 _FRAME = re.compile(r"^(?P<function>.*?) \((?P<file>.*?)(?::\d+)?\)$")
 PROJECT = "bagmcp_"
+# Threads parked in these are waiting, not working (py-spy's idle detection misses some of them).
+WAITING = ("Condition.wait (threading.py)", "_worker (concurrent/futures/thread.py)", "select (selectors.py)")
 
 
 @dataclass(frozen=True)
@@ -75,6 +77,8 @@ def summarize(raw: Path, *, label: str, process: str, limit: int = 12) -> Profil
             continue
         count = int(found["count"])
         frames = [_short(f) for f in found["stack"].split(";")]
+        if frames[-1].endswith(WAITING):
+            continue
         total += count
         own[frames[-1]] += count
         for frame in set(frames):

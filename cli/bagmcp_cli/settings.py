@@ -6,7 +6,7 @@ import hashlib
 from dataclasses import dataclass
 from pathlib import Path
 
-from bagmcp_shared.settings import Env, default_data_dir
+from bagmcp_shared.settings import Env, OpenBagLimits, default_data_dir
 
 
 @dataclass(frozen=True)
@@ -14,6 +14,7 @@ class EmbeddedSettings:
     folder: Path
     data_dir: Path
     job_budget_s: float = 20.0
+    open_bags: OpenBagLimits = OpenBagLimits()
 
     @classmethod
     def from_env(cls, folder: Path, data_dir: Path | None, env: Env | None = None) -> EmbeddedSettings:
@@ -24,6 +25,7 @@ class EmbeddedSettings:
             folder=folder,
             data_dir=data_dir or default_data_dir(env) / folder_key(folder),
             job_budget_s=env.number("BAGMCP_JOB_BUDGET_S", 20.0),
+            open_bags=OpenBagLimits.from_env(env),
         )
 
 

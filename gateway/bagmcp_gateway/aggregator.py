@@ -150,8 +150,18 @@ def gateway_server(gateway: Gateway, bus: SubscriptionBus, *, name: str = "bagmc
     async def on_call_tool(ctx: ServerRequestContext[Any], params: types.CallToolRequestParams) -> types.CallToolResult:
         return await call_tool(gateway, ctx, params)
 
+    def input_schema(tool_name: str) -> dict[str, Any] | None:
+        """For the SDK's check of a call's Mcp-Param headers: without it, the SDK runs (and serializes) a
+        whole tools/list on every tools/call to find this one schema."""
+        tool = gateway.catalog.tool(tool_name)
+        return tool.input_schema if tool is not None else None
+
     return Server(
-        name, on_list_tools=on_list_tools, on_call_tool=on_call_tool, on_subscriptions_listen=ListenHandler(bus)
+        name,
+        on_list_tools=on_list_tools,
+        on_call_tool=on_call_tool,
+        on_subscriptions_listen=ListenHandler(bus),
+        get_tool_input_schema=input_schema,
     )
 
 

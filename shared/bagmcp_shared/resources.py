@@ -18,7 +18,7 @@ from bagmcp_shared.access import BagAccess, BagFiles, CachedBagFiles, FolderBagF
 from bagmcp_shared.catalog import Catalog, MemoryCatalog, RedisCatalog
 from bagmcp_shared.errors import StorageError
 from bagmcp_shared.jobs import JobStore, MemoryJobStore, RedisJobStore
-from bagmcp_shared.settings import S3Settings, TeamSettings
+from bagmcp_shared.settings import OpenBagLimits, S3Settings, TeamSettings
 from bagmcp_shared.storage import LocalStore, ObjectStore, S3Store
 from bagmcp_shared.tasks import CeleryRunner, Runner, ThreadRunner, create_celery
 
@@ -49,7 +49,9 @@ class Embedded:
     data_dir: Path
 
 
-def embedded_resources(folder: Path, data_dir: Path, *, job_budget_s: float = 20.0) -> Embedded:
+def embedded_resources(
+    folder: Path, data_dir: Path, *, job_budget_s: float = 20.0, open_bags: OpenBagLimits = OpenBagLimits()
+) -> Embedded:
     """One process over a read-only folder: memory catalog and jobs, a thread runner, indexes and
     the bags and artifacts the server makes under ``data_dir``."""
     store = LocalStore(data_dir / "store")
@@ -65,7 +67,7 @@ def embedded_resources(folder: Path, data_dir: Path, *, job_budget_s: float = 20
         jobs=jobs,
         runner=runner,
         store=store,
-        access=BagAccess(catalog, files),
+        access=BagAccess(catalog, files, cache=ReaderCache(open_bags)),
         uploads=False,
         job_budget_s=job_budget_s,
     )
@@ -112,7 +114,7 @@ def team_resources(settings: TeamSettings, *, queue: str) -> Resources:
         jobs=RedisJobStore(client),
         runner=CeleryRunner(app),
         store=store,
-        access=BagAccess(catalog, files, cache=ReaderCache()),
+        access=BagAccess(catalog, files, cache=ReaderCache(settings.open_bags)),
         max_result_bytes=settings.max_result_bytes,
         job_budget_s=settings.job_budget_s,
     )

@@ -105,6 +105,25 @@ class HttpSettings:
 
 
 @dataclass(frozen=True)
+class OpenBagLimits:
+    """The opened-bag cache of each process: at most ``max_bags`` bags and about ``max_bytes`` of readers'
+    indexes and loaded index columns; ``max_readers_per_bag`` idle readers of one bag kept for concurrent
+    callers. Least recently used bags are closed past these limits."""
+
+    max_bags: int = 32
+    max_bytes: int = 2**30
+    max_readers_per_bag: int = 8
+
+    @classmethod
+    def from_env(cls, env: Env) -> OpenBagLimits:
+        return cls(
+            max_bags=env.integer("BAGMCP_OPEN_BAGS", 32),
+            max_bytes=env.integer("BAGMCP_OPEN_BAGS_MAX_BYTES", 2**30),
+            max_readers_per_bag=env.integer("BAGMCP_OPEN_READERS_PER_BAG", 8),
+        )
+
+
+@dataclass(frozen=True)
 class TeamSettings:
     """What every service process needs in team mode: Redis, S3, the service token, local data."""
 
@@ -116,6 +135,7 @@ class TeamSettings:
     max_result_bytes: int = 16_000
     job_budget_s: float = 20.0
     task_visibility_timeout_s: int = 3600
+    open_bags: OpenBagLimits = OpenBagLimits()
 
     @classmethod
     def from_env(cls, env: Env) -> TeamSettings:
@@ -128,6 +148,7 @@ class TeamSettings:
             max_result_bytes=env.integer("BAGMCP_MAX_RESULT_BYTES", 16_000),
             job_budget_s=env.number("BAGMCP_JOB_BUDGET_S", 20.0),
             task_visibility_timeout_s=env.integer("BAGMCP_TASK_VISIBILITY_TIMEOUT_S", 3600),
+            open_bags=OpenBagLimits.from_env(env),
         )
 
     @property
