@@ -6,7 +6,7 @@ import hashlib
 from dataclasses import dataclass
 from pathlib import Path
 
-from bagmcp_shared.settings import Env, OpenBagLimits, default_data_dir
+from bagmcp_shared.settings import DEFAULT_OPEN_BAGS, Env, OpenBagLimits, default_data_dir
 
 
 @dataclass(frozen=True)
@@ -14,7 +14,7 @@ class EmbeddedSettings:
     folder: Path
     data_dir: Path
     job_budget_s: float = 20.0
-    open_bags: OpenBagLimits = OpenBagLimits()
+    open_bags: OpenBagLimits = DEFAULT_OPEN_BAGS
 
     @classmethod
     def from_env(cls, folder: Path, data_dir: Path | None, env: Env | None = None) -> EmbeddedSettings:

@@ -18,7 +18,7 @@ from bagmcp_shared.access import BagAccess, BagFiles, CachedBagFiles, FolderBagF
 from bagmcp_shared.catalog import Catalog, MemoryCatalog, RedisCatalog
 from bagmcp_shared.errors import StorageError
 from bagmcp_shared.jobs import JobStore, MemoryJobStore, RedisJobStore
-from bagmcp_shared.settings import OpenBagLimits, S3Settings, TeamSettings
+from bagmcp_shared.settings import DEFAULT_OPEN_BAGS, OpenBagLimits, S3Settings, TeamSettings
 from bagmcp_shared.storage import LocalStore, ObjectStore, S3Store
 from bagmcp_shared.tasks import CeleryRunner, Runner, ThreadRunner, create_celery
 
@@ -50,7 +50,7 @@ class Embedded:
 
 
 def embedded_resources(
-    folder: Path, data_dir: Path, *, job_budget_s: float = 20.0, open_bags: OpenBagLimits = OpenBagLimits()
+    folder: Path, data_dir: Path, *, job_budget_s: float = 20.0, open_bags: OpenBagLimits = DEFAULT_OPEN_BAGS
 ) -> Embedded:
     """One process over a read-only folder: memory catalog and jobs, a thread runner, indexes and
     the bags and artifacts the server makes under ``data_dir``."""

@@ -123,6 +123,9 @@ class OpenBagLimits:
         )
 
 
+DEFAULT_OPEN_BAGS = OpenBagLimits()
+
+
 @dataclass(frozen=True)
 class TeamSettings:
     """What every service process needs in team mode: Redis, S3, the service token, local data."""
@@ -135,7 +138,7 @@ class TeamSettings:
     max_result_bytes: int = 16_000
     job_budget_s: float = 20.0
     task_visibility_timeout_s: int = 3600
-    open_bags: OpenBagLimits = OpenBagLimits()
+    open_bags: OpenBagLimits = DEFAULT_OPEN_BAGS
 
     @classmethod
     def from_env(cls, env: Env) -> TeamSettings:

@@ -19,7 +19,7 @@ from pathlib import Path
 from bagmcp_shared.bags import BagReader, open_bag
 from bagmcp_shared.errors import BagmcpError
 from bagmcp_shared.index import ColumnIndex
-from bagmcp_shared.settings import OpenBagLimits
+from bagmcp_shared.settings import DEFAULT_OPEN_BAGS, OpenBagLimits
 
 READER_BASE_BYTES = 256 * 1024
 BYTES_PER_MESSAGE = 64  # the message and chunk indexes a reader keeps, per message
@@ -46,7 +46,7 @@ class _Entry:
 class ReaderCache:
     """At most ``max_bags`` bags and about ``max_bytes`` of readers and loaded index columns."""
 
-    def __init__(self, limits: OpenBagLimits = OpenBagLimits()) -> None:
+    def __init__(self, limits: OpenBagLimits = DEFAULT_OPEN_BAGS) -> None:
         self.max_bags = limits.max_bags
         self.max_bytes = limits.max_bytes
         self._max_idle = limits.max_readers_per_bag

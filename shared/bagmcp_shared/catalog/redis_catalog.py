@@ -14,7 +14,10 @@ _PREFIX = "bagmcp:catalog"
 _ADD = "if redis.call('set', KEYS[1], ARGV[1], 'NX') then redis.call('sadd', KEYS[2], ARGV[2]) return 1 end return 0"
 _RELEASE = "if redis.call('get', KEYS[1]) == ARGV[1] then return redis.call('del', KEYS[1]) else return 0 end"
 # The record of the bag holding a name, in one round trip.
-_NAMED = f"local id = redis.call('get', KEYS[1]) if id then return redis.call('get', '{_PREFIX}:bag:' .. id) end return false"
+_NAMED = (
+    f"local id = redis.call('get', KEYS[1]) if id then return redis.call('get', '{_PREFIX}:bag:' .. id) end "
+    "return false"
+)
 
 
 def _key(bag_id: str) -> str:
