@@ -49,3 +49,19 @@ def test_destructive_calls_take_only_an_exact_id_or_name(catalog: MemoryCatalog)
     assert exact_bag(catalog, "d4e5f6").name == "husky_indoor"
     with pytest.raises(BagNotFoundError):
         exact_bag(catalog, "jack")
+
+
+def test_a_bag_named_exactly_is_found_without_listing_and_forgotten_when_deleted(catalog: MemoryCatalog) -> None:
+    listed: list[int] = []
+    original = catalog.all
+    catalog.all = lambda: listed.append(1) or original()  # type: ignore[method-assign]
+    assert resolve_bag(catalog, "husky_indoor").id == "d4e5f6"
+    assert exact_bag(catalog, "jackal").id == "0789ab"
+    assert listed == []  # an exact name needs no listing of every record
+    catalog.delete("0789ab")
+    assert catalog.named("jackal") is None
+    with pytest.raises(BagNotFoundError):
+        resolve_bag(catalog, "jackal")
+    catalog.claim_name("jackal", "1111")
+    assert catalog.add(stored_record("1111", "jackal"))  # the name now belongs to another bag
+    assert resolve_bag(catalog, "jackal").id == "1111"
