@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import pytest
 
-from bagmcp_shared.catalog import MemoryCatalog, exact_bag, resolve_bag
+from bagmcp_shared.catalog import BagRecord, MemoryCatalog, exact_bag, resolve_bag
 from bagmcp_shared.errors import AmbiguousBagError, BagNotFoundError, NameTakenError
 from tests.fixtures.records import stored_record
 
@@ -51,13 +51,25 @@ def test_destructive_calls_take_only_an_exact_id_or_name(catalog: MemoryCatalog)
         exact_bag(catalog, "jack")
 
 
+class ListingCounter(MemoryCatalog):
+    def __init__(self) -> None:
+        super().__init__()
+        self.listings = 0
+
+    def all(self) -> list[BagRecord]:
+        self.listings += 1
+        return super().all()
+
+
 def test_a_bag_named_exactly_is_found_without_listing_and_forgotten_when_deleted(catalog: MemoryCatalog) -> None:
-    listed: list[int] = []
-    original = catalog.all
-    catalog.all = lambda: listed.append(1) or original()  # type: ignore[method-assign]
+    counting = ListingCounter()
+    for record in catalog.all():
+        counting.claim_name(record.name, record.id)
+        counting.add(record)
+    catalog = counting
     assert resolve_bag(catalog, "husky_indoor").id == "d4e5f6"
     assert exact_bag(catalog, "jackal").id == "0789ab"
-    assert listed == []  # an exact name needs no listing of every record
+    assert counting.listings == 0  # an exact name needs no listing of every record
     catalog.delete("0789ab")
     assert catalog.named("jackal") is None
     with pytest.raises(BagNotFoundError):
