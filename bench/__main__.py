@@ -4,6 +4,7 @@ on the local stack, time every tool as MCP calls over HTTP, and write BENCHMARKS
 from __future__ import annotations
 
 import argparse
+import pickle
 import tempfile
 import time
 from contextlib import AbstractContextManager
@@ -46,6 +47,7 @@ def _parser() -> argparse.ArgumentParser:
     parser.add_argument("--no-profile", action="store_true", help="skip py-spy (default: profile unless quick)")
     parser.add_argument("--dir", type=Path, default=Path(".bench"), help="where bags are cached and runs work")
     parser.add_argument("--out", type=Path, default=None, help="default BENCHMARKS.md (quick: in --dir)")
+    parser.add_argument("--render", action="store_true", help="only rewrite the page from the last run's figures")
     return parser
 
 
@@ -59,8 +61,18 @@ def _reasons() -> dict[str, str]:
     return found
 
 
+def _write(run: RunResult, args: argparse.Namespace) -> None:
+    out = args.out or (args.dir / "BENCHMARKS.quick.md" if run.quick else Path("BENCHMARKS.md"))
+    out.write_text(render(run, reasons=_reasons()))
+    print(f"[bench] wrote {out}", flush=True)
+
+
 def main() -> None:
     args = _parser().parse_args()
+    saved = args.dir / ("last-run-quick.pickle" if args.quick else "last-run.pickle")
+    if args.render:  # figures of the last run, with bench/reasons.md as it is now
+        _write(pickle.loads(saved.read_bytes()), args)
+        return
     preset = QUICK if args.quick else FULL
     began = time.monotonic()
     bags = bench_bags(args.dir, size_gb=args.size_gb or preset.size_gb)
@@ -88,9 +100,8 @@ def main() -> None:
             with server as served:
                 run.modes.append(anyio.run(partial(measure_mode, served, bags, plan, began=time.monotonic())))
     run.wall_s = time.monotonic() - began
-    out = args.out or (args.dir / "BENCHMARKS.quick.md" if args.quick else Path("BENCHMARKS.md"))
-    out.write_text(render(run, reasons=_reasons()))
-    print(f"[bench] wrote {out}", flush=True)
+    saved.write_bytes(pickle.dumps(run))
+    _write(run, args)
 
 
 if __name__ == "__main__":

@@ -18,7 +18,13 @@ _LINE = re.compile(r"^(?P<stack>.*) (?P<count>\d+)$")
 _FRAME = re.compile(r"^(?P<function>.*?) \((?P<file>.*?)(?::\d+)?\)$")
 PROJECT = "bagmcp_"
 # Threads parked in these are waiting, not working (py-spy's idle detection misses some of them).
-WAITING = ("Condition.wait (threading.py)", "_worker (concurrent/futures/thread.py)", "select (selectors.py)")
+WAITING = (
+    "Condition.wait (threading.py)",
+    "_worker (concurrent/futures/thread.py)",
+    "select (selectors.py)",
+    "dequeue (logging/handlers.py)",
+    "_read_from_socket (redis/_parsers/socket.py)",
+)
 
 
 @dataclass(frozen=True)
