@@ -39,6 +39,10 @@ class BenchCall:
     target: Target | None = None
     cheap: bool = False  # run in the concurrency and load tests
 
+    def __reduce__(self) -> tuple[object, tuple[str]]:
+        """Saved by label (its arguments are lambdas): a saved run is re-rendered with the calls as defined."""
+        return call_labelled, (self.label,)
+
 
 def _mid(duration_s: float, rep: int) -> float:
     """A time in the middle half of the bag, different on every repetition."""
@@ -133,3 +137,7 @@ CALLS: tuple[BenchCall, ...] = (
         },
     ),
 )
+
+
+def call_labelled(label: str) -> BenchCall:
+    return next(c for c in CALLS if c.label == label)
