@@ -8,6 +8,7 @@ from pathlib import Path
 
 import pytest
 
+from bagmcp_shared.bags import open_bag
 from bench import drive
 from bench.bags import BenchBag, bench_bags
 from bench.calls import CALLS
@@ -18,7 +19,6 @@ from bench.profile import summarize
 from bench.report import render
 from bench.results import ModeResult, RunResult
 from bench.stats import Timing
-from bagmcp_shared.bags import open_bag
 
 
 @pytest.fixture(scope="module")
