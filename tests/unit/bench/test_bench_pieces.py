@@ -62,7 +62,7 @@ def test_the_report_shows_targets_met_and_missed_and_the_ratio_to_the_floor(tiny
     results = [CallResult(c, cold=_timing(30.0), warm=_timing(5.0, 6.0, 7.0)) for c in CALLS]
     slow = next(r for r in results if r.call.tool == "get_messages_in_range")
     slow.warm = _timing(50.0, 60.0)
-    floors = {b.kind: {f.key: _timing(40.0) for f in FLOORS} for b in tiny}
+    floors: dict[str, dict[str, Timing]] = {b.kind: {f.key: _timing(40.0) for f in FLOORS} for b in tiny}
     mode = ModeResult("embedded", ready_s=1.0, bags={"ros2-mcap": results})
     mode.overhead = [Overhead("bag_info", gateway=_timing(9.0, 10.0), direct=_timing(6.0, 6.5))]
     mode.loads = [LoadResult(20, 30, wall_s=2.0, timing=_timing(*[10.0] * 600))]
