@@ -7,6 +7,7 @@ import argparse
 import pickle
 import tempfile
 import time
+import traceback
 from contextlib import AbstractContextManager
 from dataclasses import dataclass
 from functools import partial
@@ -18,7 +19,7 @@ from bench.bags import bench_bags
 from bench.floors import measure_floors
 from bench.machine import Machine
 from bench.report import render
-from bench.results import RunResult
+from bench.results import ModeResult, RunResult
 from bench.run import Plan, measure_mode
 from bench.servers import Served, embedded, stack
 from bench.stats import Timing
@@ -97,8 +98,12 @@ def main() -> None:
             server: AbstractContextManager[Served] = (
                 embedded(bags[0].path.parent, work) if mode == "embedded" else stack(bags, work)
             )
-            with server as served:
-                run.modes.append(anyio.run(partial(measure_mode, served, bags, plan, began=time.monotonic())))
+            try:
+                with server as served:
+                    run.modes.append(anyio.run(partial(measure_mode, served, bags, plan, began=time.monotonic())))
+            except Exception as err:  # the other mode is still worth its figures; the page says what failed
+                traceback.print_exc()
+                run.modes.append(ModeResult(mode, error=f"{type(err).__name__}: {err}"[:500]))
     run.wall_s = time.monotonic() - began
     saved.write_bytes(pickle.dumps(run))
     _write(run, args)

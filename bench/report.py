@@ -151,6 +151,9 @@ def _mode_target_rows(run: RunResult, mode: ModeResult) -> list[list[str]]:
 def _mode_section(run: RunResult, mode: ModeResult) -> Iterator[str]:
     yield f"## {mode.mode}"
     yield ""
+    if mode.error:
+        yield f"**Not measured to the end**: {mode.error} (the run's output has the traceback)."
+        yield ""
     yield f"Every bag ready {mode.ready_s:.1f} s after {'start' if mode.mode == 'embedded' else 'the uploads'}."
     yield ""
     header = ["call", "cold ms", "warm median ms", "warm p95 ms", "target", "", "floor ms", "warm / cold vs floor"]

@@ -23,6 +23,7 @@ class ModeResult:
     overhead: list[Overhead] = field(default_factory=list)
     loads: list[LoadResult] = field(default_factory=list)
     profiles: list[Profile] = field(default_factory=list)
+    error: str | None = None  # the mode could not be measured to the end
 
 
 @dataclass

@@ -64,7 +64,8 @@ def stack(bags: list[BenchBag], work: Path) -> Iterator[Served]:
     """The local stack with ``bags`` uploaded through the gateway's REST API."""
     with ExitStack() as exits:
         redis_url = exits.enter_context(_redis_process())
-        s3 = exits.enter_context(_weed_process())
+        volumes = 16 + 2 * sum(b.size_bytes for b in bags) // (64 * 2**20)  # 64 MB each, room to spare
+        s3 = exits.enter_context(_weed_process(volumes=volumes))
         running = start_stack(redis_url, s3, work, exits, env={"BAGMCP_JOB_BUDGET_S": JOB_BUDGET_S})
         for bag in bags:
             running.upload_ok(bag.path)
