@@ -6,6 +6,7 @@ import time
 from dataclasses import dataclass, field
 
 import anyio
+import psutil
 
 from bench.calls import CALLS, BenchCall
 from bench.client import Endpoint, call, timed_call
@@ -82,16 +83,38 @@ class LoadResult:
     wall_s: float = 0.0
     errors: list[str] = field(default_factory=list)
     timing: Timing = field(default_factory=Timing)
+    cpu_ms_per_call: dict[str, float] = field(default_factory=dict)  # by process, the bench client included
 
     @property
     def calls_per_s(self) -> float:
         return len(self.timing) / self.wall_s if self.wall_s else 0.0
 
 
-async def run_load(endpoint: Endpoint, bags: list[tuple[str, float]], *, clients: int, calls_each: int) -> LoadResult:
+def _cpu_s(processes: dict[str, psutil.Process]) -> dict[str, float]:
+    """CPU seconds (user and system) each process and its children used so far."""
+    found = {}
+    for name, process in processes.items():
+        try:
+            found[name] = sum(p.cpu_times().user + p.cpu_times().system for p in (process, *process.children(True)))
+        except psutil.Error:
+            found[name] = 0.0
+    return found
+
+
+async def run_load(
+    endpoint: Endpoint,
+    bags: list[tuple[str, float]],
+    *,
+    clients: int,
+    calls_each: int,
+    watch: dict[str, int] | None = None,
+) -> LoadResult:
     """``clients`` clients, connected first, then all at once making ``calls_each`` cheap calls each
-    (bag_info and get_message_at_time in turn, over the bags); errors are counted, not raised."""
+    (bag_info and get_message_at_time in turn, over the bags); errors are counted, not raised. The CPU
+    each ``watch``ed process (by pid) and the bench client spent per call is recorded."""
     load = LoadResult(clients, calls_each)
+    watched = {name: psutil.Process(pid) for name, pid in (watch or {}).items()}
+    watched["bench client"] = psutil.Process()
     cheap = [c for c in CALLS if c.cheap and c.tool != "list_bags"]
     connected, go, finished = 0, anyio.Event(), [0.0]
 
@@ -115,7 +138,11 @@ async def run_load(endpoint: Endpoint, bags: list[tuple[str, float]], *, clients
         with anyio.fail_after(120):
             while connected < clients:
                 await anyio.sleep(0.01)
+        before = _cpu_s(watched)
         began = time.perf_counter()
         go.set()
     load.wall_s = max(finished) - began
+    after = _cpu_s(watched)
+    calls = max(len(load.timing), 1)
+    load.cpu_ms_per_call = {name: 1000 * (after[name] - before[name]) / calls for name in watched}
     return load

@@ -185,11 +185,13 @@ def _mode_section(run: RunResult, mode: ModeResult) -> Iterator[str]:
                 _ms(load.timing.median_ms),
                 _ms(load.timing.p99_ms),
                 str(len(load.errors)),
+                ", ".join(f"{name} {ms:.1f}" for name, ms in load.cpu_ms_per_call.items() if ms >= 0.05),
                 (load.errors[0][:120] if load.errors else ""),
             ]
             for load in mode.loads
         ]
-        yield from _table(["clients x calls", "calls/s", "p50 ms", "p99 ms", "errors", "first error"], rows)
+        header = ["clients x calls", "calls/s", "p50 ms", "p99 ms", "errors", "CPU ms per call", "first error"]
+        yield from _table(header, rows)
 
 
 def _profile_section(profile: Profile) -> Iterator[str]:

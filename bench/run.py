@@ -58,7 +58,8 @@ async def measure_mode(served: Served, bags: list[BenchBag], plan: Plan, *, bega
         mode.overhead = await gateway_overhead(endpoint, served.direct, *named[-1], repeats=plan.overhead_repeats)
     for clients, calls_each in plan.loads:
         print(f"[bench] {served.mode}: {clients} clients x {calls_each} calls", flush=True)
-        mode.loads.append(await run_load(endpoint, named, clients=clients, calls_each=calls_each))
+        watch = {name: proc.pid for name, proc in served.processes.items() if not name.endswith("worker")}
+        mode.loads.append(await run_load(endpoint, named, clients=clients, calls_each=calls_each, watch=watch))
     if plan.profile:
         mode.profiles = await _profiles(served, named, plan, mode.bags[bags[-1].kind])
     return mode
