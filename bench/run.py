@@ -17,6 +17,9 @@ from bench.profile import Profile, recording, summarize
 from bench.results import THROUGHPUT_CLIENTS, ModeResult, warm_met
 from bench.servers import Served, wait_ready
 
+PROFILE_REPEATS = 40  # enough samples at py-spy's rate for a warm call of ~10 ms
+MIN_SAMPLES = 20  # a process that sampled less than this did not take part (a worker idle for inline work)
+
 
 @dataclass(frozen=True)
 class Plan:
@@ -39,7 +42,8 @@ def _profiled(
         for name, out in outputs.items():
             exits.enter_context(recording(processes[name].pid, out))
         yield found
-    found.extend(summarize(out, label=label, process=name) for name, out in outputs.items())
+    summaries = [summarize(out, label=label, process=name) for name, out in outputs.items()]
+    found.extend(p for p in summaries if p.samples >= MIN_SAMPLES)
 
 
 async def measure_mode(served: Served, bags: list[BenchBag], plan: Plan, *, began: float) -> ModeResult:
@@ -81,8 +85,8 @@ async def _profiles(
             continue
         service = service_of(result.call.tool)
         names = ["bagmcp serve"] if served.mode == "embedded" else [service, f"{service} worker"]
-        label = f"{served.mode}: {result.call.label} (warm, x{plan.repeats})"
+        label = f"{served.mode}: {result.call.label} (warm, x{PROFILE_REPEATS})"
         with _profiled(served.processes, names, plan.work, label) as profiles:
-            await measure_bag(served.endpoint, name, duration_s, repeats=plan.repeats, calls=(result.call,))
+            await measure_bag(served.endpoint, name, duration_s, repeats=PROFILE_REPEATS, calls=(result.call,))
         found += profiles
     return found
