@@ -36,7 +36,7 @@ class Preset:
 
 FULL = Preset(size_gb=2.0, repeats=9, overhead_repeats=60, loads=((20, 30), (50, 20)), floor_repeats=5)
 QUICK = Preset(size_gb=0.05, repeats=3, overhead_repeats=10, loads=((20, 5), (50, 2)), floor_repeats=2)
-REASONS = Path(__file__).parent / "reasons.md"
+NOTES = Path(__file__).parent / "notes.md"
 
 
 def _parser() -> argparse.ArgumentParser:
@@ -52,26 +52,21 @@ def _parser() -> argparse.ArgumentParser:
     return parser
 
 
-def _reasons() -> dict[str, str]:
-    """Hand-written explanations of missed targets: lines ``- target text: reason`` in bench/reasons.md."""
-    found = {}
-    for line in REASONS.read_text().splitlines() if REASONS.exists() else []:
-        if line.startswith("- ") and ": " in line:
-            text, reason = line[2:].split(": ", 1)
-            found[text.strip("* ")] = reason
-    return found
+def _notes() -> str:
+    """Why targets are missed, written by hand after a run (bench/notes.md), shown under the targets."""
+    return NOTES.read_text() if NOTES.exists() else ""
 
 
 def _write(run: RunResult, args: argparse.Namespace) -> None:
     out = args.out or (args.dir / "BENCHMARKS.quick.md" if run.quick else Path("BENCHMARKS.md"))
-    out.write_text(render(run, reasons=_reasons()))
+    out.write_text(render(run, notes=_notes()))
     print(f"[bench] wrote {out}", flush=True)
 
 
 def main() -> None:
     args = _parser().parse_args()
     saved = args.dir / ("last-run-quick.pickle" if args.quick else "last-run.pickle")
-    if args.render:  # figures of the last run, with bench/reasons.md as it is now
+    if args.render:  # figures of the last run, with bench/notes.md as it is now
         _write(pickle.loads(saved.read_bytes()), args)
         return
     preset = QUICK if args.quick else FULL

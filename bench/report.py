@@ -203,8 +203,8 @@ def _profile_section(profile: Profile) -> Iterator[str]:
     yield from _table(["project frames: frame", "inside %", "own %"], rows)
 
 
-def render(run: RunResult, *, reasons: dict[str, str]) -> str:
-    """The whole page; ``reasons`` explains missed targets (by target text), written by hand in notes."""
+def render(run: RunResult, *, notes: str) -> str:
+    """The whole page; ``notes`` (markdown written by hand after looking at a run) says why targets are missed."""
     machine = run.machine
     lines = [
         "# Benchmarks",
@@ -242,8 +242,7 @@ def render(run: RunResult, *, reasons: dict[str, str]) -> str:
         "",
     ]
     lines += _table(["target", "issue", *(m.mode for m in run.modes), ""], _target_rows(run))
-    for text, reason in reasons.items():
-        lines += [f"- **{text}**: {reason}"]
+    lines += [notes.strip(), ""] if notes.strip() else []
     lines += ["", "## rosbags floors (median ms)", ""]
     kinds = [b.kind for b in run.bags]
     rows = [[f.label, *(_ms(run.floors[k][f.key].median_ms) for k in kinds)] for f in FLOORS]

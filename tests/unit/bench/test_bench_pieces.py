@@ -67,13 +67,13 @@ def test_the_report_shows_targets_met_and_missed_and_the_ratio_to_the_floor(tiny
     mode.overhead = [Overhead("bag_info", gateway=_timing(9.0, 10.0), direct=_timing(6.0, 6.5))]
     mode.loads = [LoadResult(20, 30, wall_s=2.0, timing=_timing(*[10.0] * 600))]
     machine = Machine(2, "test cpu", 4.0, "3.11", "linux", "abc")
-    page = render(RunResult(machine, False, 3, tiny, floors, [mode]), reasons={"x": "because"})
+    page = render(RunResult(machine, False, 3, tiny, floors, [mode]), notes="### Why\n\nbecause")
     assert "| warm bag_info < 20 ms | 11 | 6.0 | met |" in page
     assert "| warm get_messages_in_range 1 s /odom < 20 ms | 11 | 55.0 | **missed** |" in page
     assert "| cold get_message_at_time /odom < 1x floor | 11 | 30.0 (limit 40.0) | met |" in page
     assert "gateway adds < 5 ms median" in page
     assert "300 calls/s" in page
-    assert "- **x**: because" in page
+    assert "### Why\n\nbecause" in page
 
 
 def test_a_profile_is_summed_by_own_time_and_by_project_frames(tmp_path: Path) -> None:
