@@ -19,7 +19,6 @@ from mcp.server import Server, ServerRequestContext
 from mcp.server.auth.middleware.auth_context import get_access_token
 from mcp.server.auth.provider import AccessToken
 from mcp.server.subscriptions import InMemorySubscriptionBus, ListenHandler, SubscriptionBus
-from mcp.shared.jsonrpc_dispatcher import progress_token_from_params
 
 from bagmcp_gateway.answers import DEFAULT_MAX_CHARS, cap_answer, error_result
 from bagmcp_gateway.audit import AuditLog, AuditRecord
@@ -71,17 +70,9 @@ async def _forward(
     async def relay(progress: float, total: float | None, message: str | None) -> None:
         await ctx.session.report_progress(progress, total, message)
 
-    # Progress is asked of the upstream only when the caller asked for it: without a token the upstream
-    # answers plain JSON at once, and neither side sets up a progress channel.
-    wanted = progress_token_from_params(ctx.params) is not None
     with anyio.fail_after(upstream.call_timeout_s):
         async with gateway.connections.client(upstream) as client:
-            return await client.call_tool(
-                original,
-                arguments,
-                progress_callback=relay if wanted else None,
-                meta={OWNER_META_KEY: who},  # type: ignore[arg-type]
-            )
+            return await client.call_tool(original, arguments, progress_callback=relay, meta={OWNER_META_KEY: who})  # type: ignore[arg-type]
 
 
 async def call_tool(
