@@ -10,6 +10,8 @@ from fnmatch import fnmatchcase
 import mcp.types as types
 from mcp.server.auth.provider import AccessToken
 
+from bagmcp_gateway.lean import lean_tools
+
 CORE_TOOLS = (
     "list_bags",
     "bag_info",
@@ -19,12 +21,14 @@ CORE_TOOLS = (
     "get_tf_tree",
     "plot_timeseries",
     "plot_2d",
+    "get_job",
+    "cancel_job",
 )
 
 
 @dataclass(frozen=True)
 class Profile:
-    """A named set of tools (globs); ``lean`` lists them without output schemas, for small models."""
+    """A named set of tools (globs); ``lean`` lists them as lean.py says, for small models."""
 
     tools: tuple[str, ...]
     lean: bool = False
@@ -74,4 +78,4 @@ class ToolPolicy:
         """The tools ``caller`` may use, as its profile lists them."""
         lean = (profile := self.profile_of(caller)) is not None and profile.lean
         visible = [t for t in tools if self.allows(t, caller)]
-        return [t.model_copy(update={"output_schema": None}) for t in visible] if lean else visible
+        return lean_tools(visible) if lean else visible
