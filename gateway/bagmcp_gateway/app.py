@@ -19,7 +19,7 @@ from bagmcp_gateway.audit import AuditLog
 from bagmcp_gateway.auth import rest_auth
 from bagmcp_gateway.catalog import ToolCatalog
 from bagmcp_gateway.connections import Connections
-from bagmcp_gateway.events import RedisSubscriptionBus
+from bagmcp_gateway.events import RedisSubscriptionBus, channel_for
 from bagmcp_gateway.metrics import GatewayMetrics
 from bagmcp_gateway.ratelimit import MemoryRateLimiter, RateLimiter, RedisRateLimiter
 from bagmcp_gateway.settings import GatewaySettings
@@ -69,7 +69,8 @@ def create_app(
     services' own routes when embedded (``statuses`` then maps their errors)."""
     store = _token_store(settings)
     verifier = _verifier(settings, store)
-    shared_bus = RedisSubscriptionBus(settings.redis_url) if settings.redis_url is not None else None
+    redis_url = settings.redis_url
+    shared_bus = RedisSubscriptionBus(redis_url, channel=channel_for(upstreams)) if redis_url is not None else None
     bus = shared_bus or InMemorySubscriptionBus()
     connections = Connections(upstreams)
     catalog = ToolCatalog(upstreams, connections, bus, poll_s=settings.upstream_poll_s)

@@ -8,9 +8,10 @@ upstreams as soon as another noticed a change). Without Redis a replica tells on
 
 from __future__ import annotations
 
+import hashlib
 import json
 import logging
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 
 import anyio
 import redis
@@ -19,8 +20,17 @@ from anyio.abc import TaskStatus
 from mcp.server.subscriptions import InMemorySubscriptionBus, ServerEvent
 from mcp.shared.subscriptions import event_from_wire, event_to_notification
 
+from bagmcp_gateway.upstreams import Upstream
+
 log = logging.getLogger(__name__)
-CHANNEL = "bagmcp:gateway:events"
+CHANNEL = "bagmcp:gateway:events:"
+
+
+def channel_for(upstreams: Sequence[Upstream]) -> str:
+    """One channel per upstream configuration: the replicas of one gateway share it, other gateways on the
+    same Redis (another team's, a test's) never hear its events."""
+    described = ",".join(f"{u.name}={u.url or 'in-process'}@{u.prefix or ''}" for u in upstreams)
+    return CHANNEL + hashlib.sha256(described.encode()).hexdigest()[:16]
 
 
 def encode(event: ServerEvent) -> str:
@@ -36,7 +46,7 @@ def decode(body: bytes | str) -> ServerEvent | None:
 
 
 class RedisSubscriptionBus:
-    def __init__(self, url: str, *, channel: str = CHANNEL, retry_s: float = 1.0) -> None:
+    def __init__(self, url: str, *, channel: str, retry_s: float = 1.0) -> None:
         self._redis = redis.asyncio.Redis.from_url(url)
         self._channel = channel
         self._retry_s = retry_s
