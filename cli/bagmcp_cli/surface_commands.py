@@ -12,16 +12,15 @@ from pathlib import Path
 
 import anyio
 from mcp import Client
-from mcp.server.auth.provider import AccessToken
+from mcp.types import Tool
 
 from bagmcp_cli.embedded import compose
 from bagmcp_cli.settings import EmbeddedSettings
 from bagmcp_gateway.aggregator import build_gateway_server
-from bagmcp_gateway.policy import DEFAULT_PROFILES, ToolPolicy
-from bagmcp_gateway.tokens.models import SCOPES
+from bagmcp_gateway.policy import DEFAULT_PROFILES, ToolPolicy, listing_characters, tool_characters
 
 
-async def _listing(profile: str) -> list[dict[str, object]]:
+async def _listing(profile: str) -> list[Tool]:
     with tempfile.TemporaryDirectory(prefix="bagmcp-tools-") as tmp:
         composition = compose(EmbeddedSettings(Path(tmp), Path(tmp) / "data"))
         try:
@@ -29,19 +28,17 @@ async def _listing(profile: str) -> list[dict[str, object]]:
                 tools = list((await client.list_tools()).tools)
         finally:
             composition.embedded.runner.shutdown()
-    caller = AccessToken(token="-", client_id="-", scopes=list(SCOPES), claims={"profile": profile})
-    shown = ToolPolicy().shown(tools, caller)
-    return [t.model_dump(mode="json", by_alias=True, exclude_none=True) for t in shown]
+    return ToolPolicy().profile_listing(tools, profile)
 
 
 def tools(args: argparse.Namespace) -> int:
     listing = anyio.run(_listing, args.profile)
-    size = len(json.dumps({"tools": listing}, separators=(",", ":")))
+    size = listing_characters(listing)
     if args.json:
-        print(json.dumps({"profile": args.profile, "tools": [t["name"] for t in listing], "characters": size}))
+        print(json.dumps({"profile": args.profile, "tools": [t.name for t in listing], "characters": size}))
         return 0
     for tool in listing:
-        print(f"{tool['name']:24} {len(json.dumps(tool, separators=(',', ':'))):6} characters")
+        print(f"{tool.name:24} {tool_characters(tool):6} characters")
     print(f"profile {args.profile}: {len(listing)} tools, tools/list is {size:,} characters")
     return 0
 

@@ -3,6 +3,7 @@ allow/deny globs, and the scope a tool needs. Checked in tools/list and again in
 
 from __future__ import annotations
 
+import json
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from fnmatch import fnmatchcase
@@ -11,6 +12,7 @@ import mcp.types as types
 from mcp.server.auth.provider import AccessToken
 
 from bagmcp_gateway.lean import lean_tools
+from bagmcp_gateway.tokens.models import SCOPES
 
 CORE_TOOLS = (
     "list_bags",
@@ -79,3 +81,23 @@ class ToolPolicy:
         lean = (profile := self.profile_of(caller)) is not None and profile.lean
         visible = [t for t in tools if self.allows(t, caller)]
         return lean_tools(visible) if lean else visible
+
+    def profile_listing(self, tools: Sequence[types.Tool], profile: str) -> list[types.Tool]:
+        """What a token of ``profile`` holding every scope is shown."""
+        claims = {"profile": profile}
+        caller = AccessToken(token="-", client_id=f"profile-{profile}", scopes=list(SCOPES), claims=claims)
+        return self.shown(tools, caller)
+
+
+def _wire(tool: types.Tool) -> dict[str, object]:
+    return tool.model_dump(mode="json", by_alias=True, exclude_none=True)
+
+
+def tool_characters(tool: types.Tool) -> int:
+    """One tool's size in a tools/list answer (compact JSON)."""
+    return len(json.dumps(_wire(tool), separators=(",", ":")))
+
+
+def listing_characters(tools: Sequence[types.Tool]) -> int:
+    """The size of a whole tools/list answer holding ``tools``, as it is sent (compact JSON)."""
+    return len(json.dumps({"tools": [_wire(t) for t in tools]}, separators=(",", ":")))
