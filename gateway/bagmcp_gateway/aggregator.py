@@ -51,10 +51,10 @@ class Gateway:
     listed: bool = False
 
     async def tools(self) -> list[types.Tool]:
-        if not self.listed:  # in-process use (stdio, tests) lists on first need: its start-up
+        if not self.listed:  # in-process use (stdio, tests) lists on need until every upstream answered once
             await self.catalog.refresh_all()
             self.catalog.check_startup()
-            self.listed = True
+            self.listed = all(state.up for state in self.catalog.states.values())
         return self.catalog.tools
 
 
