@@ -126,11 +126,16 @@ class RecordTools:
         )
 
     async def topic_statistics(
-        self, ctx: Context, bag: BagRef, topic: TopicName
+        self,
+        ctx: Context,
+        bag: BagRef,
+        topic: TopicName,
+        gap_periods: Annotated[float, Field(gt=1, description="a gap: longer than this many periods")] = 3.0,
     ) -> Annotated[CallToolResult, LongAnswer[TopicStatisticsReport]]:
-        """Timing of one topic: rate, jitter, gaps, estimated dropped messages, header-stamp delay."""
+        """Timing of one topic: rate, jitter, gaps, estimated dropped messages, header-stamp delay.
+        Example: topic="/imu", gap_periods=5."""
         with tool_errors():
-            params = params_of(StatisticsParams, bag=bag, topic=topic)
+            params = params_of(StatisticsParams, bag=bag, topic=topic, gap_periods=gap_periods)
         return await self._work.run(
             ctx,
             STATISTICS,
