@@ -12,6 +12,7 @@ from matplotlib.projections.polar import PolarAxes
 from matplotlib.ticker import FuncFormatter
 
 from bagmcp_plotting.drawing.canvas import LEGEND_SIZE, PALETTE, TICK_SIZE, new_figure, to_png
+from bagmcp_plotting.drawing.decimate import extreme_indices
 
 MAX_POINTS = 20_000
 INSIDE_COLOR = "#d62728"
@@ -37,8 +38,9 @@ def render_scan(
     if within_m is not None and not (np.isfinite(within_m) and within_m > 0):
         raise ValueError(f"within_m must be a positive number of metres, not {within_m}.")
     valid = np.isfinite(angles) & np.isfinite(ranges) & (ranges > 0) & (ranges <= range_max_m)
-    stride = max(1, -(-int(valid.sum()) // MAX_POINTS))
-    theta, radius = angles[valid][::stride], ranges[valid][::stride]
+    theta, radius = angles[valid], ranges[valid]
+    shown = extreme_indices(radius, max_points=MAX_POINTS)  # the closest return is always drawn
+    theta, radius = theta[shown], radius[shown]
     figure = new_figure(title=title)
     axes = figure.add_subplot(projection="polar")
     if not isinstance(axes, PolarAxes):

@@ -74,3 +74,16 @@ def test_ranges_beyond_range_max_are_not_drawn() -> None:
 def test_invalid_range_max_is_refused() -> None:
     with pytest.raises(ValueError, match="range_max_m"):
         render_scan(angles_rad=np.zeros(1), ranges_m=np.ones(1), title="t", range_max_m=0.0)
+
+
+def test_the_one_close_return_of_a_dense_scan_is_drawn_inside_the_circle() -> None:
+    angles = np.linspace(-np.pi, np.pi, 60_000, endpoint=False)
+    far = np.full(angles.size, 8.0)
+    near = far.copy()
+    near[30_001] = 1.0  # one return, at an index a stride of 3 would skip
+    pictures = [
+        decode_png(render_scan(angles_rad=angles, ranges_m=r, title="dense", range_max_m=30.0, within_m=2.0))
+        for r in (far, near)
+    ]
+    red = [int(colour_mask(p, INSIDE_COLOR).sum()) for p in pictures]
+    assert red[1] > red[0]  # the legend's red marker is in both; the point only in the second
