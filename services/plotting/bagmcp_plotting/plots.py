@@ -91,8 +91,9 @@ class Plotter:
             with self._access.open(params.bag) as ob:
                 lo, hi = ob.window(params.start, params.end)
                 x, y, notes = self._xy_series(ob, params, lo, hi, progress)
-                title = f"{y.name} against {x.name} ({_window_title(ob, lo, hi)})"
                 trajectory = params.x is None
+                what = f"trajectory of {x.topic}" if trajectory else f"{y.name} against {x.name}"
+                title = f"{what} ({_window_title(ob, lo, hi)})"
                 png = render_xy(
                     x=x.values,
                     y=y.values,
