@@ -127,7 +127,7 @@ class PlotTools:
         color_by_time: bool = False,
     ) -> Answer:
         """XY plot of two fields; without x and y, the trajectory of a pose topic in metres (GPS: east/north),
-        equal aspect, start and end marked. Example: bag="run1", color_by_time=true."""
+        equal aspect, start and end marked. Example: color_by_time=true."""
         with tool_errors():
             params = params_of(
                 XYParams, bag=bag, x=x, y=y, topic=topic, start=start, end=end, color_by_time=color_by_time
