@@ -10,9 +10,9 @@ import numpy as np
 import numpy.typing as npt
 
 from bagmcp_shared.access import OpenBag
+from bagmcp_shared.bags.counted import ReportProgress
 from bagmcp_shared.errors import ArgumentError
 from bagmcp_shared.index import read_series
-from bagmcp_shared.index.counted import ReportProgress
 
 EARTH_RADIUS_M = 6_371_008.8
 FIX_COLUMNS = ["latitude", "longitude", "altitude", "status.status"]

@@ -8,7 +8,7 @@ from pathlib import Path
 from typing import Protocol, cast
 
 from bagmcp_shared.bags import BagReader
-from bagmcp_shared.index.counted import ReportProgress, counted
+from bagmcp_shared.bags.counted import ReportProgress, counted
 from bagmcp_shared.timebase import header_stamp_ns
 
 LOG_TYPES = frozenset({"rosgraph_msgs/msg/Log", "rcl_interfaces/msg/Log"})

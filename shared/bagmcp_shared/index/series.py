@@ -9,8 +9,8 @@ import numpy as np
 import numpy.typing as npt
 
 from bagmcp_shared.bags import BagReader, RawMessage
+from bagmcp_shared.bags.counted import ReportProgress, counted
 from bagmcp_shared.index.columns import column_getter
-from bagmcp_shared.index.counted import ReportProgress, counted
 from bagmcp_shared.timebase import header_stamp_ns
 
 

@@ -11,7 +11,7 @@ import numpy as np
 import numpy.typing as npt
 
 from bagmcp_shared.bags import BagReader, Connection
-from bagmcp_shared.index.counted import ReportProgress, counted
+from bagmcp_shared.bags.counted import ReportProgress, counted
 from bagmcp_shared.timebase import MAX_CLOCK_SKEW_NS, header_stamp_ns
 
 TF_TYPES = frozenset({"tf2_msgs/msg/TFMessage", "tf/msg/tfMessage"})

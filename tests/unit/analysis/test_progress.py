@@ -5,9 +5,17 @@ from __future__ import annotations
 
 import pytest
 
-from bagmcp_analysis.job_kinds import LidarParams, LogParams, TfTreeParams, TrajectoryParams, WindowParams
+from bagmcp_analysis.job_kinds import (
+    LidarParams,
+    LogParams,
+    StatisticsParams,
+    TfTreeParams,
+    TrajectoryParams,
+    WindowParams,
+)
 from bagmcp_analysis.queries.lidar import analyze_lidar
 from bagmcp_analysis.queries.logs import analyze_logs
+from bagmcp_analysis.queries.statistics import topic_statistics
 from bagmcp_analysis.queries.tf import get_tf_tree
 from bagmcp_analysis.queries.trajectory import analyze_trajectory
 from bagmcp_analysis.queries.window import summarize_window
@@ -58,6 +66,12 @@ def test_a_trajectory_and_a_lidar_window_report_while_decoding(decoded: BagAcces
     scans = Recorded()
     analyze_lidar(decoded, LidarParams(bag="drive_db3", within_m=0.5), scans)
     assert scans.fractions == [0.0]  # 601 scans: one report before the first
+
+
+def test_reading_the_stamps_of_a_topic_reports_how_many_there_are(decoded: BagAccess) -> None:
+    progress = Recorded()
+    topic_statistics(decoded, StatisticsParams(bag="drive_mcap", topic="/imu"), progress)
+    assert progress.messages == ["read 0 of 2902 messages of /imu"]  # then one report every 10,000
 
 
 def test_a_window_summary_moves_forward_through_its_four_steps(decoded: BagAccess) -> None:

@@ -12,9 +12,9 @@ from bagmcp_analysis.lidar.pointcloud import CloudField, CloudStats, cloud_stats
 from bagmcp_analysis.lidar.scan import Scan, ScanStats, first_within, minimum_profile, scan_stats
 from bagmcp_analysis.reports.lidar import Closest, FirstWithin, LidarReport, MinimumProfile
 from bagmcp_shared.access import BagAccess, OpenBag
+from bagmcp_shared.bags.counted import counted
 from bagmcp_shared.errors import ArgumentError
 from bagmcp_shared.index import read_series
-from bagmcp_shared.index.counted import counted
 from bagmcp_shared.jobs import Progress
 from bagmcp_shared.timebase import Instant
 from bagmcp_shared.topics import CLOUD, SCAN, choose_lidar_topic

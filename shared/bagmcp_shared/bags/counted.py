@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Iterable, Iterator
 
-from bagmcp_shared.bags import RawMessage
+from bagmcp_shared.bags.models import RawMessage
 
 ReportProgress = Callable[[float, str], None]
 
