@@ -57,3 +57,8 @@ async def test_every_argument_has_a_one_line_description(served: InProcess) -> N
 async def test_schemas_carry_no_titles(served: InProcess) -> None:
     for tool in await _tools(served):
         assert '"title"' not in json.dumps(tool.input_schema).replace('"title": {', ""), tool.name
+
+
+async def test_every_description_ends_with_an_example_call(served: InProcess) -> None:
+    for tool in await _tools(served):
+        assert "Example: " in (tool.description or ""), f"{tool.name} has no example"
