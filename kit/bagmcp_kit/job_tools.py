@@ -32,7 +32,8 @@ class JobTools:
         )
 
     def cancel_job(self, ctx: Context, job_id: JobId) -> Annotated[CallToolResult, JobInfo]:
-        """Stop a queued or running job; it ends cancelled and leaves nothing half-done."""
+        """Stop a queued or running job; it ends cancelled and leaves nothing half-done.
+        Example: cancel_job(job_id="3f2a...")."""
         who = caller(ctx)
         return run_query(lambda: self._cancel(job_id, who), lambda j: f"job {j.job_id}: {j.state}; {j.message}")
 

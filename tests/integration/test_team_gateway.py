@@ -39,7 +39,6 @@ CORE = {
     "plot_timeseries",
     "plot_2d",
     "get_job",
-    "cancel_job",
 }
 
 
@@ -79,7 +78,7 @@ def test_scopes_gate_the_rest_routes_and_the_mcp_endpoint(stack: Stack) -> None:
     assert no_read.status_code == 403
 
 
-async def test_a_core_token_sees_ten_tools_in_under_6000_characters_and_is_refused_the_rest(stack: Stack) -> None:
+async def test_a_core_token_sees_nine_tools_in_under_6000_characters_and_is_refused_the_rest(stack: Stack) -> None:
     core = new_token(stack, "small-model", "--profile", "core")
     async with http_client(f"{stack.url}/mcp", core) as client:
         tools = (await client.list_tools()).tools
