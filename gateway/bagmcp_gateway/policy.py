@@ -23,7 +23,8 @@ CORE_TOOLS = (
     "get_tf_tree",
     "plot_timeseries",
     "plot_2d",
-    "get_job",  # core tools may answer with a job; with cancel_job too, core's tools/list passes 6,000 characters
+    "get_job",  # core tools may answer with a job: follow it
+    "cancel_job",
 )
 
 

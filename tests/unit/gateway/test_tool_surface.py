@@ -68,8 +68,8 @@ async def test_each_profile_s_whole_tools_list_is_printed_and_core_stays_small(s
         print(f"profile {name}: {len(listing)} tools, tools/list {listing_characters(listing):,} characters")
     assert [t.name for t in listings["full"]] == [t.name for t in tools]
     core = [t.name for t in listings["core"]]
-    assert {"bag_info", "search_messages", "get_job"} <= set(core)
-    assert len(core) == 9
+    assert {"bag_info", "search_messages", "get_job", "cancel_job"} <= set(core)
+    assert len(core) == 10
     assert listing_characters(listings["core"]) < CORE_LISTING_BUDGET
 
 
