@@ -46,13 +46,15 @@ def create_embedded_app(
 ) -> FastAPI:
     """The HTTP app of ``bagmcp serve``."""
     composition = compose(settings, public_url=public_url)
-    made = tokens_file(settings.data_dir)  # tokens made with `bagmcp token create --bags DIR`
+    # Tokens made with `bagmcp token create --data D` count, also those made while it runs, whenever the
+    # server checks tokens: started with --token, or with a token file there already.
+    made = tokens_file(settings.data_dir)
     gateway = GatewaySettings(
         token_hashes=[token_hash(token)] if token else [],
         http=http,
         public_url=public_url,
-        tokens_file=made if made.exists() else None,
-        rate_limit=None,
+        tokens_file=made if token or made.exists() else None,
+        rate_limit=settings.rate_limit,
     )
     return create_app(
         gateway,

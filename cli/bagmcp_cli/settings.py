@@ -6,14 +6,19 @@ import hashlib
 from dataclasses import dataclass
 from pathlib import Path
 
+from bagmcp_gateway.ratelimit import Limit
+from bagmcp_gateway.settings import rate_limit_from_env
 from bagmcp_shared.settings import DEFAULT_OPEN_BAGS, Env, OpenBagLimits, default_data_dir
 
 
 @dataclass(frozen=True)
 class EmbeddedSettings:
+    """``rate_limit`` (``bagmcp serve`` only) is off unless BAGMCP_RATE_LIMIT_PER_S is set: one user, one machine."""
+
     folder: Path
     data_dir: Path
     job_budget_s: float = 20.0
+    rate_limit: Limit | None = None
     open_bags: OpenBagLimits = DEFAULT_OPEN_BAGS
 
     @classmethod
@@ -25,6 +30,7 @@ class EmbeddedSettings:
             folder=folder,
             data_dir=data_dir or default_data_dir(env) / folder_key(folder),
             job_budget_s=env.number("BAGMCP_JOB_BUDGET_S", 20.0),
+            rate_limit=rate_limit_from_env(env, default_per_s=0.0),
             open_bags=OpenBagLimits.from_env(env),
         )
 

@@ -83,6 +83,7 @@ def s3_store(settings: S3Settings, *, wait_s: float = 60.0) -> S3Store:
         bucket=settings.bucket,
         secure=settings.secure,
         read_timeout_s=settings.read_timeout_s,
+        ca_file=settings.ca_file,
     )
     deadline = time.monotonic() + wait_s
     while True:

@@ -74,6 +74,7 @@ class S3Settings:
     bucket: str = "bagmcp"
     secure: bool = False
     read_timeout_s: float = 60.0
+    ca_file: str | None = None  # certificate authorities for https endpoints (default: certifi's)
 
     @classmethod
     def from_env(cls, env: Env) -> S3Settings:
@@ -84,6 +85,7 @@ class S3Settings:
             bucket=env.text("BAGMCP_S3_BUCKET", "bagmcp"),
             secure=env.flag("BAGMCP_S3_SECURE", False),
             read_timeout_s=env.number("BAGMCP_S3_READ_TIMEOUT_S", 60.0),
+            ca_file=env.optional("BAGMCP_S3_CA_FILE") or env.optional("SSL_CERT_FILE"),
         )
 
 

@@ -165,3 +165,17 @@ def run_gateway(
         log_dir=stack.logs,
         ready=http_ok(f"http://127.0.0.1:{port}/readyz"),
     )
+
+
+def bagmcp(*arguments: str) -> subprocess.CompletedProcess[str]:
+    """The ``bagmcp`` command of this venv, run to the end."""
+    return subprocess.run([str(BIN / "bagmcp"), *arguments], capture_output=True, text=True, timeout=120, check=False)
+
+
+def new_token(stack: Stack, name: str, *options: str) -> str:
+    """A token made through the stack's gateway with `bagmcp token create --url` (``options`` as on the CLI)."""
+    made = bagmcp("token", "create", name, *options, "--url", stack.url, "--token", TOKEN, "--json")
+    assert made.returncode == 0, made.stderr
+    answer: dict[str, Any] = json.loads(made.stdout)
+    assert answer["name"] == name
+    return str(answer["token"])
