@@ -24,6 +24,7 @@ WAITING = (
     "select (selectors.py)",
     "dequeue (logging/handlers.py)",
     "_read_from_socket (redis/_parsers/socket.py)",
+    "_epoll.poll (kombu/utils/eventio.py)",
 )
 
 
