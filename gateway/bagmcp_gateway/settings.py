@@ -132,16 +132,14 @@ class GatewaySettings:
                 "set BAGMCP_TOKENS, BAGMCP_REDIS_URL (tokens made with `bagmcp token`) or BAGMCP_JWT_*"
             )
         http = HttpSettings.from_env(env, port=DEFAULT_PORT, extra_hosts=("gateway:*",))
-        upstreams = parse_upstreams(
-            env.text("BAGMCP_UPSTREAMS", "bag-store=http://127.0.0.1:8001/mcp"), service_token=service
-        )
+        upstreams = parse_upstreams(env.need("BAGMCP_UPSTREAMS"), service_token=service)
         return cls(
             upstreams=upstreams,
             token_hashes=hashes,
             service_token=service,
             http=http,
             public_url=env.text("BAGMCP_PUBLIC_URL", f"http://{http.host}:{http.port}"),
-            rest_routes=parse_routes(env.text("BAGMCP_REST_ROUTES", "bags=http://127.0.0.1:8001")),
+            rest_routes=parse_routes(env.text("BAGMCP_REST_ROUTES", "")),
             redis_url=redis_url,
             jwt=jwt_settings,
             policy=ToolPolicy(
