@@ -7,7 +7,7 @@ settings and pass the values down.
 from __future__ import annotations
 
 import os
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -87,6 +87,12 @@ class S3Settings:
         )
 
 
+def host_patterns(names: Sequence[str]) -> tuple[str, ...]:
+    """Allowed Host entries from what a user writes: ``name`` or ``[v6]`` means any port (``name:*``);
+    ``name:port`` and ``name:*`` stay as they are."""
+    return tuple(n if n.rsplit("]", 1)[-1].count(":") == 1 else f"{n}:*" for n in names if n)
+
+
 @dataclass(frozen=True)
 class HttpSettings:
     """Where a process listens and which Host headers it answers (DNS-rebinding protection)."""
@@ -100,7 +106,7 @@ class HttpSettings:
         return cls(
             host=env.text("BAGMCP_HOST", "127.0.0.1"),
             port=env.integer("BAGMCP_PORT", port),
-            allowed_hosts=env.items("BAGMCP_ALLOWED_HOSTS", (*LOOPBACK_HOSTS, *extra_hosts)),
+            allowed_hosts=host_patterns(env.items("BAGMCP_ALLOWED_HOSTS", (*LOOPBACK_HOSTS, *extra_hosts))),
         )
 
 

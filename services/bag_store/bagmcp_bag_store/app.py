@@ -13,12 +13,11 @@ from bagmcp_shared.resources import team_resources
 
 
 def create_app(settings: BagStoreSettings) -> FastAPI:
-    settings.upload_dir.mkdir(parents=True, exist_ok=True)
+    settings.uploads.upload_dir.mkdir(parents=True, exist_ok=True)
     service = settings.service
     bag_store = build_bag_store(
         team_resources(service.team, queue=QUEUE),
-        upload_dir=settings.upload_dir,
-        max_upload_bytes=settings.max_upload_bytes,
+        uploads=settings.uploads,
         service_token=service.team.service_token,
         public_url=service.public_url,
     )

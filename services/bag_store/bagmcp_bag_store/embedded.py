@@ -10,6 +10,7 @@ from pathlib import Path
 from bagmcp_bag_store.errors import STATUSES
 from bagmcp_bag_store.ingest.folder import FolderHashes, catalog_folder, catalog_stored
 from bagmcp_bag_store.job_kinds import INGEST, RUN_JOB
+from bagmcp_bag_store.settings import UploadSettings
 from bagmcp_bag_store.wiring import BagStore, build_bag_store
 from bagmcp_kit.parts import ServicePart
 from bagmcp_shared.jobs import run_job
@@ -21,7 +22,7 @@ log = logging.getLogger(__name__)
 def start_embedded(embedded: Embedded) -> BagStore:
     """The bag-store over the embedded resources; starts cataloguing and ingesting the folder."""
     res = embedded.resources
-    bag_store = build_bag_store(res, upload_dir=Path(tempfile.gettempdir()), max_upload_bytes=0)
+    bag_store = build_bag_store(res, uploads=UploadSettings(upload_dir=Path(tempfile.gettempdir()), max_bytes=0))
     work = bag_store.work
 
     hashes = FolderHashes(res.catalog, embedded.folder, embedded.data_dir / "content-ids.json")

@@ -3,17 +3,18 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
-from pathlib import Path
 
 from fastapi import APIRouter
 from mcp.server.mcpserver import MCPServer
 
-from bagmcp_bag_store.api import UploadPolicy, build_router
+from bagmcp_bag_store.api import build_router
 from bagmcp_bag_store.filtering import filter_bag
 from bagmcp_bag_store.ingest.ingest import Ingestor
 from bagmcp_bag_store.ingest.shelf import Shelf
+from bagmcp_bag_store.ingest.upload import UploadPolicy
 from bagmcp_bag_store.job_kinds import FILTER, INGEST, SEARCH
 from bagmcp_bag_store.query.search import search_messages
+from bagmcp_bag_store.settings import UploadSettings
 from bagmcp_bag_store.tools import build_server
 from bagmcp_kit.longwork import LongWork
 from bagmcp_shared.jobs import JobRegistry
@@ -50,8 +51,7 @@ class BagStore:
 def build_bag_store(
     res: Resources,
     *,
-    upload_dir: Path,
-    max_upload_bytes: int,
+    uploads: UploadSettings,
     service_token: str | None = None,
     public_url: str = "http://127.0.0.1:8001",
 ) -> BagStore:
@@ -63,8 +63,10 @@ def build_bag_store(
     policy = UploadPolicy(
         shelf=work.shelf,
         queue_ingest=lambda bag_id: res.runner.submit(INGEST, bag_id),
-        upload_dir=upload_dir,
-        max_upload_bytes=max_upload_bytes,
+        upload_dir=uploads.upload_dir,
+        max_bytes=uploads.max_bytes,
+        archive_expansion=uploads.archive_expansion,
+        stuck_after_s=uploads.stuck_after_s,
         uploads=res.uploads,
     )
     return BagStore(work, server, build_router(res.access, policy))

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import re
-import tempfile
 from collections.abc import Collection, Iterator, Sequence
 from contextlib import ExitStack
 from pathlib import Path
@@ -151,14 +150,14 @@ def _decompress_file(path: Path, into: Path) -> Path:
 
 
 def open_directory(
-    directory: Path, stack: ExitStack, *, recover_truncated: bool
+    directory: Path, stack: ExitStack, *, recover_truncated: bool, decompress_into: Path
 ) -> tuple[MessageSource, BagFormat, list[Path]]:
-    """All storage files of a ROS 2 bag directory as one source."""
+    """All storage files of a ROS 2 bag directory as one source (zstd-compressed files are decompressed into
+    ``decompress_into`` first)."""
     files, mode, info = storage_files(directory)
     paths = files
     if mode == "file":
-        tmp = Path(stack.enter_context(tempfile.TemporaryDirectory(prefix="bagmcp-zstd-")))
-        paths = [_decompress_file(f, tmp) for f in files]
+        paths = [_decompress_file(f, decompress_into) for f in files]
     sources: list[MessageSource] = []
     kinds: set[BagFormat] = set()
     for path in paths:
