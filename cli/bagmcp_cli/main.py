@@ -10,6 +10,7 @@ import sys
 from collections.abc import Sequence
 from pathlib import Path
 
+from bagmcp_cli.catalog_commands import add_catalog_commands
 from bagmcp_cli.surface_commands import add_surface_commands
 from bagmcp_cli.token_commands import add_token_commands
 from bagmcp_shared.bags import open_bag
@@ -135,6 +136,7 @@ def build_parser() -> argparse.ArgumentParser:
     up.set_defaults(handler=_upload)
     add_token_commands(commands)
     add_surface_commands(commands)
+    add_catalog_commands(commands)
     return parser
 
 

@@ -121,7 +121,7 @@ class TeamSettings:
     cache_max_bytes: int = 20 * 2**30
     max_result_bytes: int = 16_000
     job_budget_s: float = 20.0
-    task_visibility_timeout_s: int = 3600
+    task_visibility_timeout_s: int = 60  # a task of a worker that died goes to another after this long
 
     @classmethod
     def from_env(cls, env: Env) -> TeamSettings:
@@ -133,12 +133,16 @@ class TeamSettings:
             cache_max_bytes=env.integer("BAGMCP_CACHE_MAX_BYTES", 20 * 2**30),
             max_result_bytes=env.integer("BAGMCP_MAX_RESULT_BYTES", 16_000),
             job_budget_s=env.number("BAGMCP_JOB_BUDGET_S", 20.0),
-            task_visibility_timeout_s=env.integer("BAGMCP_TASK_VISIBILITY_TIMEOUT_S", 3600),
+            task_visibility_timeout_s=env.integer("BAGMCP_TASK_VISIBILITY_TIMEOUT_S", 60),
         )
 
     @property
     def cache_dir(self) -> Path:
         return self.data_dir / "cache"
+
+    @property
+    def scratch_dir(self) -> Path:
+        return self.data_dir / "scratch"
 
 
 @dataclass(frozen=True)

@@ -17,7 +17,7 @@ import httpx
 from minio import Minio
 
 from tests.fixtures.mcp_client import call, http_client
-from tests.fixtures.processes import BIN, http_ok, service
+from tests.fixtures.processes import BIN, http_ok, scratch_leftovers, service
 from tests.fixtures.servers import S3Endpoint, free_port, free_ports
 
 TOKEN = "test-client-token"
@@ -91,9 +91,8 @@ class Stack:
         return {b["name"]: b for b in listing["bags"]}
 
     def upload_leftovers(self) -> list[str]:
-        """Files the bag-store left in its upload directory (temporary bodies and unpacked archives)."""
-        uploads = self.bag_store_data / "uploads"
-        return sorted(str(p.relative_to(uploads)) for p in uploads.rglob("*")) if uploads.is_dir() else []
+        """What the bag-store left in its scratch directory (upload bodies, unpacked archives, temp files)."""
+        return scratch_leftovers(self.bag_store_data)
 
     def objects(self) -> list[str]:
         client = Minio(self.s3.endpoint, access_key=self.s3.access_key, secret_key=self.s3.secret_key, secure=False)

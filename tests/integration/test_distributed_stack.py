@@ -168,8 +168,7 @@ def test_an_interrupted_upload_leaves_nothing_behind(
         )
     assert _names(stack) == names_before
     assert stack.objects() == before
-    uploads = stack.bag_store_data / "uploads"
-    wait_until(lambda: not any(uploads.iterdir()), timeout_s=10, what="upload temp files to be removed")
+    wait_until(lambda: not stack.upload_leftovers(), timeout_s=10, what="upload temp files to be removed")
 
 
 @pytest.mark.parametrize("path", ["..%2F..%2Fmcp", "..%2fmcp", "%2e%2e/%2e%2e/mcp", "bags/..%2F..%2Fmcp"])

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
-from pathlib import Path
 
 from bagmcp_shared.settings import Env, ServiceSettings
 
@@ -17,7 +16,6 @@ class UploadSettings:
     times the archive); a re-upload of a bag still ingesting ``stuck_after_s`` after it was queued (or
     failed) queues its ingest again."""
 
-    upload_dir: Path
     max_bytes: int = DEFAULT_MAX_UPLOAD_BYTES
     archive_expansion: int = 20
     stuck_after_s: float = 120.0
@@ -34,7 +32,6 @@ class BagStoreSettings:
         env = env or Env()
         service = ServiceSettings.from_env(env, name="bag-store", port=DEFAULT_PORT)
         uploads = UploadSettings(
-            upload_dir=service.team.data_dir / "uploads",
             max_bytes=env.integer("BAGMCP_MAX_UPLOAD_BYTES", DEFAULT_MAX_UPLOAD_BYTES),
             archive_expansion=env.integer("BAGMCP_ARCHIVE_MAX_EXPANSION", 20),
             stuck_after_s=env.number("BAGMCP_INGEST_STUCK_AFTER_S", 120.0),

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 
 from fastapi import APIRouter
@@ -41,6 +42,11 @@ def build_work(res: Resources) -> BagStoreWork:
     return BagStoreWork(shelf, ingestor, registry)
 
 
+def ingest_queue(res: Resources) -> Callable[[str], None]:
+    """Queue a bag's ingest where this way of running does it (a Celery worker, or a thread)."""
+    return lambda bag_id: res.runner.submit(INGEST, bag_id)
+
+
 @dataclass(frozen=True)
 class BagStore:
     work: BagStoreWork
@@ -62,8 +68,8 @@ def build_bag_store(
     )
     policy = UploadPolicy(
         shelf=work.shelf,
-        queue_ingest=lambda bag_id: res.runner.submit(INGEST, bag_id),
-        upload_dir=uploads.upload_dir,
+        queue_ingest=ingest_queue(res),
+        upload_dir=res.scratch,
         max_bytes=uploads.max_bytes,
         archive_expansion=uploads.archive_expansion,
         stuck_after_s=uploads.stuck_after_s,

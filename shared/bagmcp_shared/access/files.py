@@ -16,6 +16,7 @@ from typing import Protocol
 from bagmcp_shared import keys
 from bagmcp_shared.catalog.models import BagRecord
 from bagmcp_shared.errors import StorageError
+from bagmcp_shared.scratch import own_scratch
 from bagmcp_shared.storage import LocalStore, ObjectStore
 
 _COMPLETE = ".complete"
@@ -84,6 +85,7 @@ class CachedBagFiles:
         self._guard_evict = threading.Lock()
         self._locks: dict[str, threading.Lock] = {}
         cache_dir.mkdir(parents=True, exist_ok=True)
+        self._partials = own_scratch(cache_dir / ".partial")  # on the cache's file system, for the rename
 
     @contextmanager
     def _locked(self, name: str) -> Iterator[None]:
@@ -130,7 +132,7 @@ class CachedBagFiles:
     def _fetch_objects(self, wanted: list[str], root: Path) -> None:
         """Download the objects ``wanted`` into ``root`` (named by their last part), all or nothing; the
         completion marker is written last, after the rename."""
-        partial = self._dir / f".partial-{root.name}-{os.getpid()}-{threading.get_ident()}"
+        partial = self._partials / f"{root.name}-{threading.get_ident()}"
         shutil.rmtree(partial, ignore_errors=True)
         partial.mkdir(parents=True)
         try:

@@ -35,7 +35,8 @@ class UploadPolicy:
     """How uploads are taken: ``max_bytes`` bounds the body and what an archive unpacks to, which is also at
     most ``archive_expansion`` times the archive's size. A re-upload of a bag whose ingest failed, or has
     not finished ``stuck_after_s`` after it was queued, queues its ingest again. ``uploads`` False refuses
-    uploads (an embedded server over a read-only folder)."""
+    uploads (an embedded server over a read-only folder). Bodies and unpacked archives go to ``upload_dir``
+    (the process's scratch directory)."""
 
     shelf: Shelf
     queue_ingest: Callable[[str], None]
