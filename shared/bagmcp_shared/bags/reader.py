@@ -21,6 +21,7 @@ from bagmcp_shared.bags.source import MessageSource
 from bagmcp_shared.errors import BagError, BagmcpError, DamagedBagError, TopicNotFoundError
 
 log = logging.getLogger(__name__)
+MESSAGE_CHARS = 600
 
 
 @contextmanager
@@ -32,19 +33,26 @@ def damage_named(path: Path, *, workspace: Path | None = None) -> Iterator[None]
     try:
         yield
     except BagError as err:
-        if workspace is None or str(workspace) not in str(err):
+        shown = _one_line(str(err).replace(str(workspace), str(path)) if workspace is not None else str(err))
+        if shown == str(err):
             raise
-        raise type(err)(str(err).replace(str(workspace), str(path))) from err
+        raise type(err)(shown) from err
     except BagmcpError:
         raise
     except Exception as err:
         if isinstance(err, OSError) and err.errno is not None:  # the file system, not the data
             raise BagError(f"{path}: cannot be read ({err.strerror})") from err
         log.debug("reading %s failed", path, exc_info=True)
-        detail = f"{type(err).__name__}: {err}" if str(err) else type(err).__name__
+        detail = _one_line(f"{type(err).__name__}: {err}" if str(err) else type(err).__name__)
         raise DamagedBagError(
             f"{path}: the recording is damaged and cannot be read ({detail}); use an intact copy"
         ) from err
+
+
+def _one_line(message: str, *, limit: int = MESSAGE_CHARS) -> str:
+    """An error message in one line of at most ``limit`` characters (libraries quote whole records)."""
+    flat = " ".join(message.split())
+    return flat if len(flat) <= limit else f"{flat[: limit - 1]}…"
 
 
 def _guarded(path: Path, workspace: Path | None, messages: Iterator[RawMessage]) -> Iterator[RawMessage]:

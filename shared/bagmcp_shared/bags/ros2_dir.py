@@ -26,6 +26,13 @@ def _natural_key(path: Path) -> tuple[str, int]:
     return (path.name[: match.start()] if match else path.name, int(match.group(1)) if match else -1)
 
 
+def _one_line(err: Exception) -> str:
+    """A parser's error in one line (YAML errors quote the offending text over several)."""
+    if isinstance(err, yaml.MarkedYAMLError) and err.problem_mark is not None:
+        return f"{err.problem} at line {err.problem_mark.line + 1}, column {err.problem_mark.column + 1}"
+    return " ".join(str(err).split())
+
+
 def _read_metadata(directory: Path) -> dict[str, object] | None:
     path = directory / "metadata.yaml"
     if not path.exists():
@@ -34,7 +41,7 @@ def _read_metadata(directory: Path) -> dict[str, object] | None:
         data = yaml.safe_load(path.read_text(encoding="utf-8"))
         info = data["rosbag2_bagfile_information"]
     except (yaml.YAMLError, KeyError, TypeError, UnicodeDecodeError) as err:
-        raise DamagedBagError(f"{path}: metadata.yaml is not valid rosbag2 metadata ({err})") from err
+        raise DamagedBagError(f"{path}: metadata.yaml is not valid rosbag2 metadata ({_one_line(err)})") from err
     if not isinstance(info, dict):
         raise DamagedBagError(f"{path}: metadata.yaml is not valid rosbag2 metadata")
     return cast(dict[str, object], info)

@@ -97,3 +97,9 @@ async def test_filter_bag_says_when_the_bag_existed_already_under_another_name(s
     assert isinstance(text, TextContent)
     assert text.text.startswith("bag cmd-first")
     assert "the name 'cmd-second' was not used" in text.text
+
+
+async def test_an_absurd_time_is_an_error_that_says_what_times_are_accepted(served: InProcess) -> None:
+    async with Client(served.service("bag-store"), cache=None) as client:
+        text = await call_error(client, "get_message_at_time", bag="scenario", topic="/odom", time=1e308)
+    assert text.endswith("time 1e+308 is out of range; give seconds from the bag start, epoch seconds or ISO-8601")
