@@ -6,7 +6,7 @@ BAGS   ?= ../shared/data/bags
 STAMP  := $(VENV)/.installed-stamp
 PACKAGES := shared/pyproject.toml kit/pyproject.toml gateway/pyproject.toml services/bag_store/pyproject.toml services/analysis/pyproject.toml services/plotting/pyproject.toml cli/pyproject.toml
 
-.PHONY: install run stack test lint typecheck pytest bench lock clean
+.PHONY: install run stack test lint typecheck pytest bench bench-quick docs-images lock clean
 
 $(STAMP): requirements.lock $(PACKAGES)
 	test -x $(PY) || $(PYTHON) -m venv $(VENV)
@@ -37,8 +37,14 @@ pytest: install
 
 test: lint typecheck pytest  ## everything CI checks
 
-bench: install  ## on demand, not in CI: index vs decode on a generated ~2 GB bag (in .bench/)
-	$(PY) bench/bench_index.py $(BENCH_ARGS)
+bench: install  ## on demand, not in CI: every tool as MCP calls (embedded, stack) on ~2 GB bags; writes BENCHMARKS.md
+	$(PY) -m bench $(BENCH_ARGS)
+
+bench-quick: install  ## the benchmark's small version (about a minute; writes .bench/BENCHMARKS.quick.md)
+	$(PY) -m bench --quick $(BENCH_ARGS)
+
+docs-images: install  ## regenerate docs/images/*.png: one example of each plot kind, from generated bags
+	PYTHONPATH=. $(PY) docs/images/make_images.py
 
 lock:  ## re-pin requirements.lock from requirements.in (needs uv in .venv)
 	$(VENV)/bin/uv pip compile --quiet --no-header --python-version 3.11 requirements.in -o requirements.lock

@@ -33,7 +33,9 @@ class Composition:
 def compose(settings: EmbeddedSettings, *, public_url: str = "") -> Composition:
     """Catalog the folder (read-only), start ingest, and expose every service and the jobs tools in process.
     ``public_url`` is where callers reach this server (for artifact links)."""
-    embedded = embedded_resources(settings.folder, settings.data_dir, job_budget_s=settings.job_budget_s)
+    embedded = embedded_resources(
+        settings.folder, settings.data_dir, job_budget_s=settings.job_budget_s, open_bags=settings.open_bags
+    )
     parts = [bag_store_part(embedded), analysis_part(embedded), plotting_part(embedded, artifact_base_url=public_url)]
     jobs = Upstream(name="jobs", server=build_jobs_server(embedded.resources.jobs))
     return Composition(embedded, parts, [*(Upstream(name=p.name, server=p.server) for p in parts), jobs])
@@ -44,13 +46,15 @@ def create_embedded_app(
 ) -> FastAPI:
     """The HTTP app of ``bagmcp serve``."""
     composition = compose(settings, public_url=public_url)
-    made = tokens_file(settings.data_dir)  # tokens made with `bagmcp token create --bags DIR`
+    # Tokens made with `bagmcp token create --data D` count, also those made while it runs, whenever the
+    # server checks tokens: started with --token, or with a token file there already.
+    made = tokens_file(settings.data_dir)
     gateway = GatewaySettings(
         token_hashes=[token_hash(token)] if token else [],
         http=http,
         public_url=public_url,
-        tokens_file=made if made.exists() else None,
-        rate_limit=None,
+        tokens_file=made if token or made.exists() else None,
+        rate_limit=settings.rate_limit,
     )
     return create_app(
         gateway,

@@ -8,15 +8,29 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
-from bagmcp_shared.settings import LOOPBACK_HOSTS, Env, HttpSettings, default_data_dir, host_patterns
+from bagmcp_gateway.ratelimit import Limit
+from bagmcp_gateway.settings import rate_limit_from_env
+from bagmcp_shared.settings import (
+    DEFAULT_OPEN_BAGS,
+    LOOPBACK_HOSTS,
+    Env,
+    HttpSettings,
+    OpenBagLimits,
+    default_data_dir,
+    host_patterns,
+)
 
 
 @dataclass(frozen=True)
 class EmbeddedSettings:
+    """``rate_limit`` (``bagmcp serve`` only) is off unless BAGMCP_RATE_LIMIT_PER_S is set: one user, one machine."""
+
     folder: Path
     data_dir: Path
     job_budget_s: float = 20.0
     allowed_hosts: tuple[str, ...] = ()
+    rate_limit: Limit | None = None
+    open_bags: OpenBagLimits = DEFAULT_OPEN_BAGS
 
     @classmethod
     def from_env(cls, folder: Path, data_dir: Path | None, env: Env | None = None) -> EmbeddedSettings:
@@ -28,6 +42,8 @@ class EmbeddedSettings:
             data_dir=data_dir or default_data_dir(env) / folder_key(folder),
             job_budget_s=env.number("BAGMCP_JOB_BUDGET_S", 20.0),
             allowed_hosts=env.items("BAGMCP_ALLOWED_HOSTS"),
+            rate_limit=rate_limit_from_env(env, default_per_s=0.0),
+            open_bags=OpenBagLimits.from_env(env),
         )
 
     def http(self, host: str, port: int, *, allowed_hosts: Sequence[str] = ()) -> HttpSettings:

@@ -1,11 +1,13 @@
 """The gateway's MCP server: one tool list from every upstream (as the caller may see it), calls checked
-again, rate limited, routed to their upstream with progress relayed, capped, audited and counted.
+again, rate limited, routed to their upstream with progress relayed, capped, audited and counted, and
+one instructions text (the upstreams' own, each sentence once, or the configured one).
 
 Built on the low-level SDK server so upstream input and output schemas pass through unchanged.
 """
 
 from __future__ import annotations
 
+import contextlib
 import json
 import logging
 import time
@@ -18,6 +20,7 @@ from mcp import MCPError
 from mcp.server import Server, ServerRequestContext
 from mcp.server.auth.middleware.auth_context import get_access_token
 from mcp.server.auth.provider import AccessToken
+from mcp.server.context import CallNext, HandlerResult
 from mcp.server.subscriptions import InMemorySubscriptionBus, ListenHandler, SubscriptionBus
 
 from bagmcp_gateway.answers import DEFAULT_MAX_CHARS, cap_answer, error_result
@@ -48,10 +51,10 @@ class Gateway:
     listed: bool = False
 
     async def tools(self) -> list[types.Tool]:
-        if not self.listed:  # in-process use (stdio, tests) lists on first need: its start-up
+        if not self.listed:  # in-process use (stdio, tests) lists on need until every upstream answered once
             await self.catalog.refresh_all()
             self.catalog.check_startup()
-            self.listed = True
+            self.listed = all(state.up for state in self.catalog.states.values())
         return self.catalog.tools
 
 
@@ -126,7 +129,15 @@ async def _checked_call(
         return error_result(f"rate limit reached for this token; retry after {after} s", retryAfterSeconds=after)
     try:
         result = await _forward(gateway, ctx, upstream, original, arguments, _who(caller))
-    except Exception as err:  # transport failure or timeout: the tool is there but its service is not
+    except TimeoutError:
+        log.warning("call of %s on %s timed out after %s s", original, upstream.name, upstream.call_timeout_s)
+        gateway.catalog.failed(upstream)
+        record.outcome = "unavailable"
+        return error_result(
+            f"the {upstream.name} service did not answer {name} within {upstream.call_timeout_s:g} s (its time "
+            "limit); ask for less work, or try again later"
+        )
+    except Exception as err:  # transport failure: the tool is there but its service is not
         log.warning("call of %s on %s failed: %s", original, upstream.name, err)
         gateway.catalog.failed(upstream)
         record.outcome = "unavailable"
@@ -137,7 +148,29 @@ async def _checked_call(
     return cap_answer(result, max_chars=gateway.max_answer_chars)
 
 
-def gateway_server(gateway: Gateway, bus: SubscriptionBus, *, name: str = "bagmcp") -> Server[Any]:
+def _instructions_middleware(gateway: Gateway, configured: str | None) -> Any:
+    """Answer initialize and server/discover with the instructions as they are now (upstreams connect later
+    than the server is built; an in-process gateway lists them here, on its first request)."""
+
+    async def with_instructions(ctx: ServerRequestContext[Any], call_next: CallNext) -> HandlerResult:
+        if ctx.method not in ("initialize", "server/discover"):
+            return await call_next(ctx)
+        with contextlib.suppress(GatewayConfigError):  # tools/list reports it
+            await gateway.tools()
+        result = await call_next(ctx)
+        text = configured or gateway.catalog.instructions
+        if isinstance(result, dict) and text:
+            result["instructions"] = text
+        return result
+
+    return with_instructions
+
+
+def gateway_server(
+    gateway: Gateway, bus: SubscriptionBus, *, name: str = "bagmcp", instructions: str | None = None
+) -> Server[Any]:
+    """``instructions`` replaces the upstreams' own (None: theirs, each sentence once)."""
+
     async def on_list_tools(
         ctx: ServerRequestContext[Any], params: types.PaginatedRequestParams | None
     ) -> types.ListToolsResult:
@@ -150,9 +183,21 @@ def gateway_server(gateway: Gateway, bus: SubscriptionBus, *, name: str = "bagmc
     async def on_call_tool(ctx: ServerRequestContext[Any], params: types.CallToolRequestParams) -> types.CallToolResult:
         return await call_tool(gateway, ctx, params)
 
-    return Server(
-        name, on_list_tools=on_list_tools, on_call_tool=on_call_tool, on_subscriptions_listen=ListenHandler(bus)
+    def input_schema(tool_name: str) -> dict[str, Any] | None:
+        """For the SDK's check of a call's Mcp-Param headers: without it, the SDK runs (and serializes) a
+        whole tools/list on every tools/call to find this one schema."""
+        tool = gateway.catalog.tool(tool_name)
+        return tool.input_schema if tool is not None else None
+
+    server = Server(
+        name,
+        on_list_tools=on_list_tools,
+        on_call_tool=on_call_tool,
+        on_subscriptions_listen=ListenHandler(bus),
+        get_tool_input_schema=input_schema,
     )
+    server.middleware.append(_instructions_middleware(gateway, instructions))
+    return server
 
 
 def build_gateway_server(

@@ -19,6 +19,7 @@ from bagmcp_gateway.audit import AuditLog
 from bagmcp_gateway.auth import rest_auth
 from bagmcp_gateway.catalog import ToolCatalog
 from bagmcp_gateway.connections import Connections
+from bagmcp_gateway.events import RedisSubscriptionBus, channel_for
 from bagmcp_gateway.metrics import GatewayMetrics
 from bagmcp_gateway.ratelimit import MemoryRateLimiter, RateLimiter, RedisRateLimiter
 from bagmcp_gateway.settings import GatewaySettings
@@ -69,7 +70,9 @@ def create_app(
     services' own routes when embedded (``statuses`` then maps their errors)."""
     store = _token_store(settings)
     verifier = _verifier(settings, store)
-    bus = InMemorySubscriptionBus()
+    redis_url = settings.redis_url
+    shared_bus = RedisSubscriptionBus(redis_url, channel=channel_for(upstreams)) if redis_url is not None else None
+    bus = shared_bus or InMemorySubscriptionBus()
     connections = Connections(upstreams)
     catalog = ToolCatalog(upstreams, connections, bus, poll_s=settings.upstream_poll_s)
     gateway = Gateway(
@@ -82,7 +85,7 @@ def create_app(
         max_answer_chars=settings.max_answer_chars,
         audit_arguments=settings.audit_arguments,
     )
-    server = gateway_server(gateway, bus)
+    server = gateway_server(gateway, bus, instructions=settings.instructions)
     auth = None
     if verifier is not None:
         auth = AuthSettings(
@@ -104,6 +107,8 @@ def create_app(
     @contextlib.asynccontextmanager
     async def lifespan(_app: FastAPI) -> AsyncIterator[None]:
         async with anyio.create_task_group() as group:
+            if shared_bus is not None:
+                await group.start(shared_bus.run)
             await group.start(connections.run)
             await catalog.refresh_all()
             catalog.check_startup()  # a tool name two upstreams publish stops the gateway here, naming both

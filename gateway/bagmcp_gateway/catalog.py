@@ -1,5 +1,7 @@
-"""The gateway's view of its upstreams: which are up, and the tools each publishes, refreshed in the
-background (by polling and after a failed call) so tools/list never waits for an upstream.
+"""The gateway's view of its upstreams: which are up, the tools each publishes and what its
+instructions say, refreshed in the background so tools/list never waits for an upstream: when an
+upstream announces that its tools changed (a ``subscriptions/listen`` stream kept open to each), after
+a failed call, when the bus carries a change another replica noticed, and by polling as a backstop.
 
 A down upstream's tools leave the list until it is back; every change is published as a
 ``tools/list_changed`` event. Tool order is deterministic: upstreams in configuration order, each
@@ -16,9 +18,12 @@ from dataclasses import dataclass, field
 import anyio
 import mcp.types as types
 from anyio.abc import TaskStatus
-from mcp.server.subscriptions import SubscriptionBus, ToolsListChanged
+from mcp import MCPError
+from mcp.client.subscriptions import ListenNotSupportedError
+from mcp.server.subscriptions import ServerEvent, SubscriptionBus, ToolsListChanged
 
 from bagmcp_gateway.connections import Connections
+from bagmcp_gateway.instructions import merged_instructions
 from bagmcp_gateway.upstreams import GatewayConfigError, Upstream
 
 log = logging.getLogger(__name__)
@@ -30,32 +35,42 @@ class UpstreamState:
     error: str | None = None
     tools: list[types.Tool] = field(default_factory=list)
     since: float = field(default_factory=time.time)
+    instructions: str | None = None
 
 
 class ToolCatalog:
     def __init__(
-        self, upstreams: list[Upstream], connections: Connections, bus: SubscriptionBus, *, poll_s: float = 5.0
+        self,
+        upstreams: list[Upstream],
+        connections: Connections,
+        bus: SubscriptionBus,
+        *,
+        poll_s: float = 5.0,
+        retry_s: float = 1.0,
     ) -> None:
         self.upstreams = upstreams
         self._connections = connections
         self._bus = bus
         self._poll_s = poll_s
+        self._retry_s = retry_s
         self.states = {u.name: UpstreamState() for u in upstreams}
         self.tools: list[types.Tool] = []
         self.routes: dict[str, tuple[Upstream, str]] = {}
         self.known: dict[str, Upstream] = {}  # every name an upstream ever published: for "unavailable" errors
         self.conflicts: list[str] = []
+        self.instructions: str | None = None
         self._wake = anyio.Event()
+        bus.subscribe(self._heard)  # a change another replica noticed: re-list here too
 
-    async def _list(self, upstream: Upstream) -> list[types.Tool]:
+    async def _list(self, upstream: Upstream) -> tuple[list[types.Tool], str | None]:
         with anyio.fail_after(upstream.timeout_s):
             async with self._connections.client(upstream) as client:
-                return list((await client.list_tools()).tools)
+                return list((await client.list_tools()).tools), client.instructions
 
     async def refresh(self, upstream: Upstream) -> None:
         state = self.states[upstream.name]
         try:
-            tools = await self._list(upstream)
+            tools, instructions = await self._list(upstream)
         except Exception as err:  # any failure means down; the others go on
             if state.up or state.error is None:
                 log.warning("upstream %s is unavailable: %s", upstream.name, err)
@@ -64,7 +79,9 @@ class ToolCatalog:
         names = [t.name for t in tools]
         if not state.up or names != [t.name for t in state.tools]:
             log.info("upstream %s is up with %d tools", upstream.name, len(tools))
-        self.states[upstream.name] = UpstreamState(True, None, tools, state.since if state.up else time.time())
+        self.states[upstream.name] = UpstreamState(
+            True, None, tools, state.since if state.up else time.time(), instructions
+        )
 
     async def refresh_all(self) -> bool:
         """List every upstream at once; True when the tool list changed."""
@@ -95,6 +112,7 @@ class ToolCatalog:
                 self.known[name] = upstream
                 tools.append(tool.model_copy(update={"name": name}))
         self.tools, self.routes, self.conflicts = tools, routes, conflicts
+        self.instructions = merged_instructions([s.instructions for s in self.states.values() if s.up])
         for message in conflicts:
             log.error("gateway configuration error: %s", message)
 
@@ -109,11 +127,49 @@ class ToolCatalog:
         """A call to ``upstream`` failed in transport: re-list soon instead of at the next poll."""
         self._wake.set()
 
+    def _heard(self, event: ServerEvent) -> None:
+        if isinstance(event, ToolsListChanged):
+            self._wake.set()
+
     async def run(self, *, task_status: TaskStatus[None] = anyio.TASK_STATUS_IGNORED) -> None:
         """Keep the catalog fresh until cancelled."""
-        task_status.started()
+        async with anyio.create_task_group() as group:
+            for upstream in self.upstreams:
+                group.start_soon(self._follow, upstream)
+            task_status.started()
+            while True:
+                with anyio.move_on_after(self._poll_s):
+                    await self._wake.wait()
+                self._wake = anyio.Event()
+                await self.refresh_all()
+
+    async def _follow(self, upstream: Upstream) -> None:
+        """Re-list as soon as ``upstream`` says its tools changed; after a lost stream, once it is back
+        (a change may have gone unheard meanwhile). Servers that cannot stream changes are polled only."""
+        lost = False
         while True:
-            with anyio.move_on_after(self._poll_s):
-                await self._wake.wait()
-            self._wake = anyio.Event()
-            await self.refresh_all()
+            try:
+                async with (
+                    upstream.client(listening=True) as client,
+                    client.listen(tools_list_changed=True) as changes,
+                ):
+                    if lost:
+                        self._wake.set()
+                    async for _change in changes:
+                        self._wake.set()
+            except Exception as err:  # down or dropped: try again shortly
+                if _cannot_listen(err):
+                    log.info("upstream %s cannot announce tool changes: polled only", upstream.name)
+                    return
+                log.debug("change stream of upstream %s lost: %s", upstream.name, err)
+            lost = True
+            await anyio.sleep(self._retry_s)
+
+
+def _cannot_listen(err: Exception) -> bool:
+    """A server of the 2025 protocol, or one without ``subscriptions/listen`` (perhaps inside a group)."""
+    if isinstance(err, ExceptionGroup):
+        return any(_cannot_listen(inner) for inner in err.exceptions)
+    return isinstance(err, ListenNotSupportedError) or (
+        isinstance(err, MCPError) and err.code == types.METHOD_NOT_FOUND
+    )

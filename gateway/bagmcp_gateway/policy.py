@@ -3,12 +3,16 @@ allow/deny globs, and the scope a tool needs. Checked in tools/list and again in
 
 from __future__ import annotations
 
+import json
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from fnmatch import fnmatchcase
 
 import mcp.types as types
 from mcp.server.auth.provider import AccessToken
+
+from bagmcp_gateway.lean import lean_tools
+from bagmcp_gateway.tokens.models import SCOPES
 
 CORE_TOOLS = (
     "list_bags",
@@ -19,12 +23,14 @@ CORE_TOOLS = (
     "get_tf_tree",
     "plot_timeseries",
     "plot_2d",
+    "get_job",  # core tools may answer with a job: follow it
+    "cancel_job",
 )
 
 
 @dataclass(frozen=True)
 class Profile:
-    """A named set of tools (globs); ``lean`` lists them without output schemas, for small models."""
+    """A named set of tools (globs); ``lean`` lists them as lean.py says, for small models."""
 
     tools: tuple[str, ...]
     lean: bool = False
@@ -74,4 +80,24 @@ class ToolPolicy:
         """The tools ``caller`` may use, as its profile lists them."""
         lean = (profile := self.profile_of(caller)) is not None and profile.lean
         visible = [t for t in tools if self.allows(t, caller)]
-        return [t.model_copy(update={"output_schema": None}) for t in visible] if lean else visible
+        return lean_tools(visible) if lean else visible
+
+    def profile_listing(self, tools: Sequence[types.Tool], profile: str) -> list[types.Tool]:
+        """What a token of ``profile`` holding every scope is shown."""
+        claims = {"profile": profile}
+        caller = AccessToken(token="-", client_id=f"profile-{profile}", scopes=list(SCOPES), claims=claims)
+        return self.shown(tools, caller)
+
+
+def _wire(tool: types.Tool) -> dict[str, object]:
+    return tool.model_dump(mode="json", by_alias=True, exclude_none=True)
+
+
+def tool_characters(tool: types.Tool) -> int:
+    """One tool's size in a tools/list answer (compact JSON)."""
+    return len(json.dumps(_wire(tool), separators=(",", ":")))
+
+
+def listing_characters(tools: Sequence[types.Tool]) -> int:
+    """The size of a whole tools/list answer holding ``tools``, as it is sent (compact JSON)."""
+    return len(json.dumps({"tools": [_wire(t) for t in tools]}, separators=(",", ":")))

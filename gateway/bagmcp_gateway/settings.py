@@ -16,6 +16,14 @@ from bagmcp_gateway.upstreams import GatewayConfigError, Upstream
 from bagmcp_shared.settings import Env, HttpSettings
 
 DEFAULT_PORT = 8080
+TEAM_RATE_PER_S = 20.0
+DEFAULT_BURST = 40
+
+
+def rate_limit_from_env(env: Env, *, default_per_s: float) -> Limit | None:
+    """``BAGMCP_RATE_LIMIT_PER_S`` calls a second per token (0: no limit), ``BAGMCP_RATE_BURST`` at once."""
+    rate = env.number("BAGMCP_RATE_LIMIT_PER_S", default_per_s)
+    return Limit(rate, env.integer("BAGMCP_RATE_BURST", DEFAULT_BURST)) if rate > 0 else None
 
 
 def parse_upstreams(text: str, *, service_token: str | None) -> list[Upstream]:
@@ -83,7 +91,8 @@ class GatewaySettings:
     (the development token).
 
     ``rest_routes`` maps the first segment under /api/v1 (``bags``, ``artifacts``) to the service that
-    serves it; ``redis_url`` holds the shared job store, the team's tokens and the rate limits."""
+    serves it; ``redis_url`` holds the shared job store, the team's tokens, the rate limits and the change
+    events every replica tells its clients. ``instructions`` replaces what the upstreams' instructions say."""
 
     upstreams: list[Upstream] = field(default_factory=list)
     token_hashes: list[str] = field(default_factory=list)
@@ -100,6 +109,7 @@ class GatewaySettings:
     audit: bool = False
     audit_arguments: bool = False
     upstream_poll_s: float = 5.0
+    instructions: str | None = None
 
     @property
     def authenticated(self) -> bool:
@@ -122,7 +132,6 @@ class GatewaySettings:
                 "set BAGMCP_TOKENS, BAGMCP_REDIS_URL (tokens made with `bagmcp token`) or BAGMCP_JWT_*"
             )
         http = HttpSettings.from_env(env, port=DEFAULT_PORT, extra_hosts=("gateway:*",))
-        rate = env.number("BAGMCP_RATE_LIMIT_PER_S", 20.0)
         upstreams = parse_upstreams(
             env.text("BAGMCP_UPSTREAMS", "bag-store=http://127.0.0.1:8001/mcp"), service_token=service
         )
@@ -140,9 +149,10 @@ class GatewaySettings:
                 disabled=env.items("BAGMCP_DISABLED_TOOLS"),
                 profiles=parse_profiles(env.optional("BAGMCP_PROFILES")),
             ),
-            rate_limit=Limit(rate, env.integer("BAGMCP_RATE_BURST", 40)) if rate > 0 else None,
+            rate_limit=rate_limit_from_env(env, default_per_s=TEAM_RATE_PER_S),
             max_answer_chars=env.integer("BAGMCP_MAX_ANSWER_CHARS", DEFAULT_MAX_CHARS),
             audit=env.flag("BAGMCP_AUDIT", True),
             audit_arguments=env.flag("BAGMCP_AUDIT_ARGUMENTS", False),
             upstream_poll_s=env.number("BAGMCP_UPSTREAM_POLL_S", 5.0),
+            instructions=env.optional("BAGMCP_INSTRUCTIONS"),
         )

@@ -47,14 +47,16 @@ class Upstream:
         return f"{self.prefix}__{tool}" if self.prefix else tool
 
     @asynccontextmanager
-    async def client(self) -> AsyncIterator[Client]:
-        """A connected MCP client for this upstream (no response cache: the gateway re-lists)."""
+    async def client(self, *, listening: bool = False) -> AsyncIterator[Client]:
+        """A connected MCP client for this upstream (no response cache: the gateway re-lists). A
+        ``listening`` client holds a change-event stream open, so reads on it never time out."""
         if self.server is not None:
             async with Client(self.server, cache=None) as client:
                 yield client
             return
         assert self.url is not None
         headers = {"Authorization": f"Bearer {self.service_token}"} if self.service_token else {}
-        http = httpx2.AsyncClient(headers=headers, timeout=httpx2.Timeout(self.timeout_s, read=self.call_timeout_s))
+        read_s = None if listening else self.call_timeout_s
+        http = httpx2.AsyncClient(headers=headers, timeout=httpx2.Timeout(self.timeout_s, read=read_s))
         async with http, Client(streamable_http_client(self.url, http_client=http), cache=None) as client:
             yield client

@@ -23,8 +23,8 @@ class JobTools:
         self._jobs = jobs
 
     def get_job(self, ctx: Context, job_id: JobId) -> Annotated[CallToolResult, JobInfo]:
-        """State, progress (0..1 with a message) and, once succeeded, the result of a job that a long
-        tool call (search, filter, scan) started. Example: get_job(job_id="3f2a...")."""
+        """State, progress and, once done, the result of a job a long call started.
+        Example: get_job(job_id="3f2a...")."""
         who = caller(ctx)
         return run_query(
             lambda: JobInfo.of(owned(self._jobs, job_id, who)),
@@ -32,7 +32,7 @@ class JobTools:
         )
 
     def cancel_job(self, ctx: Context, job_id: JobId) -> Annotated[CallToolResult, JobInfo]:
-        """Stop a queued or running job; it ends cancelled and leaves nothing half-done."""
+        """Stop a queued or running job; nothing is left half-done. Example: cancel_job(job_id="3f2a...")."""
         who = caller(ctx)
         return run_query(lambda: self._cancel(job_id, who), lambda j: f"job {j.job_id}: {j.state}; {j.message}")
 

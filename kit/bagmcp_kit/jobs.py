@@ -7,7 +7,7 @@ from typing import Generic, TypeVar
 
 from pydantic import BaseModel, Field, JsonValue
 
-from bagmcp_shared.jobs import Job
+from bagmcp_shared.jobs import Job, JobState
 
 R = TypeVar("R", bound=BaseModel)
 
@@ -17,7 +17,7 @@ class JobInfo(BaseModel):
 
     job_id: str
     kind: str
-    state: str = Field(description="queued, running, succeeded, failed or cancelled")
+    state: JobState
     progress: float = Field(description="0..1")
     message: str
     error: str | None = None

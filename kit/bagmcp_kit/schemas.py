@@ -1,11 +1,13 @@
 """Lean JSON schemas for tools/list: what a model reads on every turn, without pydantic's noise.
 
 Titles go (the property names say it), ``X | None = None`` arguments become plain optional ``X``,
-and in output schemas a nullable primitive becomes ``{"type": [X, "null"]}``.
+and in output schemas a nullable primitive becomes ``{"type": [X, "null"]}``, defaults go (they say
+nothing about an answer) and a definition used once is written where it is used.
 """
 
 from __future__ import annotations
 
+from collections import Counter
 from typing import Any
 
 Schema = dict[str, Any]
@@ -14,19 +16,20 @@ _NESTED_LISTS = ("anyOf", "oneOf", "allOf", "prefixItems")
 _NULL = {"type": "null"}
 
 
-def _walk(node: Any, *, keep_null: bool) -> Any:
+def _walk(node: Any, *, keep_null: bool, drop: tuple[str, ...] = ("title",)) -> Any:
+    """``node`` without the keywords in ``drop`` (properties of those names stay)."""
     if not isinstance(node, dict):
         return node
     out: Schema = {}
     for key, value in node.items():
-        if key == "title":
+        if key in drop:
             continue
         if key in _NESTED_MAPS and isinstance(value, dict):
-            out[key] = {name: _walk(child, keep_null=keep_null) for name, child in value.items()}
+            out[key] = {name: _walk(child, keep_null=keep_null, drop=drop) for name, child in value.items()}
         elif key in _NESTED_LISTS and isinstance(value, list):
-            out[key] = [_walk(child, keep_null=keep_null) for child in value]
+            out[key] = [_walk(child, keep_null=keep_null, drop=drop) for child in value]
         elif key in ("items", "additionalProperties"):
-            out[key] = _walk(value, keep_null=keep_null)
+            out[key] = _walk(value, keep_null=keep_null, drop=drop)
         else:
             out[key] = value
     return _optional(out, keep_null=keep_null)
@@ -89,6 +92,40 @@ def lean_input(schema: Schema) -> Schema:
     return lean
 
 
+def _references(node: Any) -> Counter[str]:
+    if isinstance(node, dict):
+        found = Counter([node["$ref"]] if isinstance(node.get("$ref"), str) else [])
+        return sum((_references(v) for v in node.values()), found)
+    if isinstance(node, list):
+        return sum((_references(v) for v in node), Counter())
+    return Counter()
+
+
+def _inline_single_use(schema: Schema) -> Schema:
+    """Definitions referenced once are written in place of their reference (the name was only a detour).
+    A cycle always passes through a definition referenced twice, which stays, so this ends."""
+    defs = schema.get("$defs")
+    if not isinstance(defs, dict):
+        return schema
+    counts = _references(schema)
+    once = {f"#/$defs/{name}": body for name, body in defs.items() if counts[f"#/$defs/{name}"] == 1}
+
+    def swap(node: Any) -> Any:
+        if isinstance(node, dict):
+            ref = node.get("$ref")
+            if ref in once:
+                return {**swap(once[ref]), **{k: swap(v) for k, v in node.items() if k != "$ref"}}
+            return {k: swap(v) for k, v in node.items()}
+        if isinstance(node, list):
+            return [swap(v) for v in node]
+        return node
+
+    out: Schema = swap({k: v for k, v in schema.items() if k != "$defs"})
+    kept = {name: swap(body) for name, body in defs.items() if f"#/$defs/{name}" not in once}
+    return {**out, "$defs": kept} if kept else out
+
+
 def lean_output(schema: Schema) -> Schema:
-    """An output schema without titles, nullable primitives as a type list (values may still be null)."""
-    return _inline_empty_defs(_walk(schema, keep_null=True))
+    """An output schema without titles or defaults, nullable primitives as a type list (values may still be
+    null), each definition used once written in place."""
+    return _inline_single_use(_inline_empty_defs(_walk(schema, keep_null=True, drop=("title", "default"))))

@@ -21,7 +21,7 @@ from bagmcp_shared.errors import StorageError
 from bagmcp_shared.jobs import JobStore, MemoryJobStore, RedisJobStore
 from bagmcp_shared.redis_errors import answers
 from bagmcp_shared.scratch import use_scratch
-from bagmcp_shared.settings import S3Settings, TeamSettings
+from bagmcp_shared.settings import DEFAULT_OPEN_BAGS, OpenBagLimits, S3Settings, TeamSettings
 from bagmcp_shared.storage import LocalStore, ObjectStore, S3Store
 from bagmcp_shared.tasks import CeleryRunner, Runner, ThreadRunner, create_celery
 
@@ -54,7 +54,9 @@ class Embedded:
     data_dir: Path
 
 
-def embedded_resources(folder: Path, data_dir: Path, *, job_budget_s: float = 20.0) -> Embedded:
+def embedded_resources(
+    folder: Path, data_dir: Path, *, job_budget_s: float = 20.0, open_bags: OpenBagLimits = DEFAULT_OPEN_BAGS
+) -> Embedded:
     """One process over a read-only folder: memory catalog and jobs, a thread runner, indexes and
     the bags and artifacts the server makes under ``data_dir``."""
     store = LocalStore(data_dir / "store")
@@ -70,7 +72,7 @@ def embedded_resources(folder: Path, data_dir: Path, *, job_budget_s: float = 20
         jobs=jobs,
         runner=runner,
         store=store,
-        access=BagAccess(catalog, files),
+        access=BagAccess(catalog, files, cache=ReaderCache(open_bags)),
         scratch=Path(tempfile.gettempdir()),
         uploads=False,
         job_budget_s=job_budget_s,
@@ -87,6 +89,7 @@ def s3_store(settings: S3Settings, *, wait_s: float = 60.0) -> S3Store:
         bucket=settings.bucket,
         secure=settings.secure,
         read_timeout_s=settings.read_timeout_s,
+        ca_file=settings.ca_file,
     )
     deadline = time.monotonic() + wait_s
     while True:
@@ -131,7 +134,7 @@ def team_resources(settings: TeamSettings, *, queue: str) -> Resources:
         jobs=RedisJobStore(client),
         runner=CeleryRunner(app),
         store=store,
-        access=BagAccess(catalog, files, cache=ReaderCache()),
+        access=BagAccess(catalog, files, cache=ReaderCache(settings.open_bags)),
         scratch=scratch,
         max_result_bytes=settings.max_result_bytes,
         job_budget_s=settings.job_budget_s,

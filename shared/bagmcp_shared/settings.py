@@ -74,6 +74,7 @@ class S3Settings:
     bucket: str = "bagmcp"
     secure: bool = False
     read_timeout_s: float = 60.0
+    ca_file: str | None = None  # certificate authorities for https endpoints (default: certifi's)
 
     @classmethod
     def from_env(cls, env: Env) -> S3Settings:
@@ -84,6 +85,7 @@ class S3Settings:
             bucket=env.text("BAGMCP_S3_BUCKET", "bagmcp"),
             secure=env.flag("BAGMCP_S3_SECURE", False),
             read_timeout_s=env.number("BAGMCP_S3_READ_TIMEOUT_S", 60.0),
+            ca_file=env.optional("BAGMCP_S3_CA_FILE") or env.optional("SSL_CERT_FILE"),
         )
 
 
@@ -111,6 +113,28 @@ class HttpSettings:
 
 
 @dataclass(frozen=True)
+class OpenBagLimits:
+    """The opened-bag cache of each process: at most ``max_bags`` bags and about ``max_bytes`` of readers'
+    indexes and loaded index columns; ``max_readers_per_bag`` idle readers of one bag kept for concurrent
+    callers. Least recently used bags are closed past these limits."""
+
+    max_bags: int = 32
+    max_bytes: int = 2**30
+    max_readers_per_bag: int = 8
+
+    @classmethod
+    def from_env(cls, env: Env) -> OpenBagLimits:
+        return cls(
+            max_bags=env.integer("BAGMCP_OPEN_BAGS", 32),
+            max_bytes=env.integer("BAGMCP_OPEN_BAGS_MAX_BYTES", 2**30),
+            max_readers_per_bag=env.integer("BAGMCP_OPEN_READERS_PER_BAG", 8),
+        )
+
+
+DEFAULT_OPEN_BAGS = OpenBagLimits()
+
+
+@dataclass(frozen=True)
 class TeamSettings:
     """What every service process needs in team mode: Redis, S3, the service token, local data."""
 
@@ -122,6 +146,7 @@ class TeamSettings:
     max_result_bytes: int = 16_000
     job_budget_s: float = 20.0
     task_visibility_timeout_s: int = 60  # a task of a worker that died goes to another after this long
+    open_bags: OpenBagLimits = DEFAULT_OPEN_BAGS
 
     @classmethod
     def from_env(cls, env: Env) -> TeamSettings:
@@ -134,6 +159,7 @@ class TeamSettings:
             max_result_bytes=env.integer("BAGMCP_MAX_RESULT_BYTES", 16_000),
             job_budget_s=env.number("BAGMCP_JOB_BUDGET_S", 20.0),
             task_visibility_timeout_s=env.integer("BAGMCP_TASK_VISIBILITY_TIMEOUT_S", 60),
+            open_bags=OpenBagLimits.from_env(env),
         )
 
     @property

@@ -159,6 +159,11 @@ async def check_statistics_and_window(client: Client, bag: str) -> None:
     gap = imu["gaps"][0]
     assert (gap["start"]["offset_s"], gap["end"]["offset_s"]) == pytest.approx(sensors.IMU_GAP_S, abs=1e-6)
     assert imu["header"]["delay_median_s"] == pytest.approx(sensors.IMU_STAMP_DELAY_S, abs=1e-6)
+    periods = sensors.IMU_GAP_DURATION_S * sensors.IMU_HZ  # the gap lasts 100 median periods
+    longer = await result(client, "topic_statistics", bag=bag, topic=sensors.IMU_TOPIC, gap_periods=periods + 1)
+    assert (longer["gap_count"], longer["dropped_estimate"]) == (0, 0)
+    shorter = await result(client, "topic_statistics", bag=bag, topic=sensors.IMU_TOPIC, gap_periods=periods - 1)
+    assert (shorter["gap_count"], shorter["dropped_estimate"]) == (1, sensors.IMU_DROPPED)
     window = await result(client, "summarize_window", bag=bag, start=19, end=23)
     status = {t["topic"]: t["status"] for t in window["topics"]}
     assert status[sensors.IMU_TOPIC] == "gap"

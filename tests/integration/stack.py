@@ -53,6 +53,7 @@ class Stack:
     redis_url: str = ""
     service_urls: dict[str, str] = field(default_factory=dict)
     workers: list[tuple[str, subprocess.Popen[bytes]]] = field(default_factory=list)
+    processes: dict[str, subprocess.Popen[bytes]] = field(default_factory=dict)
 
     def start_worker(self, of: str = "bag-store") -> subprocess.Popen[bytes]:
         """A worker of one service (it takes only that service's queue)."""
@@ -108,7 +109,10 @@ class Stack:
                     await anyio.sleep(0.3)
 
 
-def start_stack(redis_url: str, s3: S3Endpoint, work: Path, exits: ExitStack) -> Stack:
+def start_stack(
+    redis_url: str, s3: S3Endpoint, work: Path, exits: ExitStack, *, env: dict[str, str] | None = None
+) -> Stack:
+    """The stack's processes; ``env`` overrides the settings every process gets (the benchmark's job budget)."""
     logs, store_data = work / "logs", work / "bag-store"
     for directory in (logs, store_data):
         directory.mkdir(parents=True)
@@ -126,11 +130,13 @@ def start_stack(redis_url: str, s3: S3Endpoint, work: Path, exits: ExitStack) ->
         "BAGMCP_S3_READ_TIMEOUT_S": "4",
         "BAGMCP_TASK_VISIBILITY_TIMEOUT_S": str(VISIBILITY_TIMEOUT_S),
         "BAGMCP_ARTIFACT_BASE_URL": gateway_url,
+        **(env or {}),
     }
     urls = {name: f"http://127.0.0.1:{ports[name]}" for name in SERVICES}
+    processes = {}
     for name, package in SERVICES.items():
         data = store_data if name == "bag-store" else work / name
-        exits.enter_context(
+        processes[name] = exits.enter_context(
             service(
                 name,
                 [str(BIN / "python"), "-m", package],
@@ -140,9 +146,10 @@ def start_stack(redis_url: str, s3: S3Endpoint, work: Path, exits: ExitStack) ->
             )
         )
     stack = Stack(gateway_url, urls["bag-store"], s3, bucket, logs, store_data, dict(common), exits, redis_url, urls)
+    stack.processes = processes
     for name in SERVICES:
         stack.start_worker(name)
-    exits.enter_context(run_gateway(stack, "gateway", ports["gateway"], {}))
+    stack.processes["gateway"] = exits.enter_context(run_gateway(stack, "gateway", ports["gateway"], {}))
     return stack
 
 
@@ -174,3 +181,17 @@ def run_gateway(
         log_dir=stack.logs,
         ready=http_ok(f"http://127.0.0.1:{port}/readyz"),
     )
+
+
+def bagmcp(*arguments: str) -> subprocess.CompletedProcess[str]:
+    """The ``bagmcp`` command of this venv, run to the end."""
+    return subprocess.run([str(BIN / "bagmcp"), *arguments], capture_output=True, text=True, timeout=120, check=False)
+
+
+def new_token(stack: Stack, name: str, *options: str) -> str:
+    """A token made through the stack's gateway with `bagmcp token create --url` (``options`` as on the CLI)."""
+    made = bagmcp("token", "create", name, *options, "--url", stack.url, "--token", TOKEN, "--json")
+    assert made.returncode == 0, made.stderr
+    answer: dict[str, Any] = json.loads(made.stdout)
+    assert answer["name"] == name
+    return str(answer["token"])

@@ -1,5 +1,6 @@
 """The analysis and plotting tools give sane answers on real recordings (skipped without the corpus):
-the Husky drive, the nav2 TurtleBot MCAP, the tilt-laser scans, the rosout logs, the compressed camera."""
+the Husky drive (and the Jackal's, to compare runs), the nav2 TurtleBot MCAP, the tilt-laser scans, the rosout
+logs, the compressed camera."""
 
 from __future__ import annotations
 
@@ -17,6 +18,7 @@ from tests.fixtures.mcp_client import call
 pytestmark = [pytest.mark.anyio, pytest.mark.corpus]
 FILES = [
     "ros1/husky_gps_imu_odom/test1.bag",
+    "ros1/jackal_imu_odom/test2.bag",
     "ros2_mcap/evo_nav2_turtlebot/nav2_turtlebot.mcap",
     "ros1/tilt_laser_gps_imu/tilt_laser.bag",
     "ros1/rosout_log/out.bag",
@@ -94,3 +96,19 @@ async def test_the_compressed_camera_image_comes_back_as_a_smaller_jpeg(recorded
         assert meta is not None
         assert (meta["width"], meta["height"], meta["sent_width"], meta["mime_type"]) == (1280, 960, 1024, "image/jpeg")
         assert any(c.type == "image" for c in answer.content)
+
+
+async def test_the_husky_and_jackal_runs_compare_and_the_husky_gps_plots_in_metres(recorded: InProcess) -> None:
+    async with Client(recorded.gateway(), cache=None) as client:
+        path = "/imu/data.angular_velocity.z"
+        runs, _ = await plot(client, "compare_runs", bags=["test1", "test2"], path=path, align="motion")
+        assert runs["bags"] == ["test1", "test2"]
+        assert [s["points"] for s in runs["series"]] == [11865, 3061]
+        assert runs["title"].startswith(f"{path}: test1, test2 (")
+        assert runs["title"].endswith(" s from each first motion)")
+        assert runs["notes"] == []  # both found their first motion on their odometry
+        fixes, _ = await plot(client, "plot_2d", bag="test1", topic="/fix")
+        east, north = fixes["series"]
+        assert (east["unit"], north["unit"]) == ("m", "m")
+        for axis in (east, north):
+            assert 20 < axis["max"] - axis["min"] < 500  # a drive of a few hundred metres, not degrees

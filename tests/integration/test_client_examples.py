@@ -1,8 +1,11 @@
-"""The client examples of docs/CLIENTS.md, run as a user would against `bagmcp serve --token`.
+"""The client examples of docs/CLIENTS.md, run as a user would against `bagmcp serve --token` and against
+the team gateway of the test stack (a token restricted to two tools), and the Claude Desktop
+configurations `bagmcp config --client desktop` prints.
 
 The Python example runs on this venv's mcp 2.x. The TypeScript example and the Claude Desktop bridge
-(`mcp-remote`) run from one `npm install` of examples/clients per session, into the pytest tmp dir;
-those tests skip when node/npm are missing or the npm registry cannot be reached.
+(`mcp-remote`) run from one `npm install` of examples/clients per session (from the npm registry, with
+this machine's Node.js and no install scripts), into the pytest tmp dir; those tests skip with the
+reason when node/npm are missing or too old, or the npm registry cannot be reached.
 """
 
 from __future__ import annotations
@@ -15,19 +18,23 @@ import subprocess
 import sys
 from collections.abc import Iterator
 from pathlib import Path
+from typing import Any
 
 import anyio
 import httpx
 import pytest
 from mcp import Client, StdioServerParameters
 
+from bagmcp_kit.arguments import CONVENTIONS
 from tests.fixtures import scenario as sc
-from tests.fixtures.bagfactory import write_bag
+from tests.fixtures.bagfactory import BagKind, write_bag
 from tests.fixtures.mcp_client import call
 from tests.fixtures.processes import BIN, http_ok, service, wait_until
 from tests.fixtures.servers import free_port
+from tests.integration.stack import Stack, bagmcp, new_token
 
 ROOT = Path(__file__).resolve().parents[2]
+TS_CALL_TOOL = Path(__file__).with_name("ts_call_tool.mjs")
 EXAMPLES = ROOT / "examples" / "clients"
 DOC = ROOT / "docs" / "CLIENTS.md"
 TOKEN = "client-example-token"
@@ -153,6 +160,25 @@ def test_the_typescript_example_without_the_token_is_refused(mcp_url: str, node_
     assert "tools:" not in done.stdout
 
 
+def test_the_typescript_sdk_through_the_gateway_sees_a_restricted_token_s_tools_and_is_refused_others(
+    stack: Stack, uploaded: dict[BagKind, dict[str, Any]], node_examples: Path
+) -> None:
+    assert uploaded["ros1"]["name"] == BAG
+    token = new_token(stack, "typescript-client", "--allow", "list_bags", "--allow", "bag_info")
+    env = {"BAGMCP_URL": f"{stack.url}/mcp", "BAGMCP_TOKEN": token}
+    done = _run(["node", "typescript_client.mjs", BAG], cwd=node_examples, env=env)
+    assert done.returncode == 0, done.stderr
+    assert _listed_tools(done.stdout) == ["list_bags", "bag_info"]
+    assert done.stdout.splitlines()[-1] == INFO_LINE
+    shutil.copy(TS_CALL_TOOL, node_examples)
+    denied = _run(["node", TS_CALL_TOOL.name, "plot_2d", json.dumps({"bag": BAG})], cwd=node_examples, env=env)
+    assert denied.returncode == 0, denied.stderr
+    answer = json.loads(denied.stdout)
+    assert answer["isError"] is True
+    assert answer["text"].startswith("plot_2d is not enabled for this token")
+    assert CONVENTIONS in answer["instructions"]
+
+
 def _desktop_server(
     name: str, replacements: dict[str, str], *, env: dict[str, str], cwd: Path | None = None
 ) -> StdioServerParameters:
@@ -166,13 +192,18 @@ def _desktop_server(
     )
 
 
-async def _bag_info_when_ready(params: StdioServerParameters) -> dict[str, object]:
-    """Connect as Claude Desktop does (initialize, protocol 2025-11-25); wait for the bag; ask bag_info."""
+async def _bag_info_when_ready(params: StdioServerParameters, *, ingested: bool = False) -> dict[str, object]:
+    """Connect as Claude Desktop does (initialize, protocol 2025-11-25); wait for the bag (unless it is
+    ``ingested`` already); ask bag_info."""
     with anyio.fail_after(RUN_TIMEOUT_S):
         async with Client(params, cache=None, mode="legacy") as client:
-            while [b["status"] for b in (await call(client, "list_bags", name=BAG))["bags"]] != ["ready"]:
+            while not ingested and await _statuses(client) != ["ready"]:
                 await anyio.sleep(0.2)
             return await call(client, "bag_info", bag=BAG)
+
+
+async def _statuses(client: Client) -> list[str]:
+    return [b["status"] for b in (await call(client, "list_bags", name=BAG))["bags"]]
 
 
 @pytest.mark.anyio
@@ -190,6 +221,34 @@ async def test_the_claude_desktop_mcp_remote_configuration_sends_the_token(
     replacements = {"https://bagmcp.example.com/mcp": mcp_url, "your-token": TOKEN}
     env = {"MCP_REMOTE_CONFIG_DIR": str(tmp_path), "npm_config_offline": "true"}  # npx runs the installed copy
     info = await _bag_info_when_ready(_desktop_server("team-bags", replacements, env=env, cwd=node_examples))
+    assert info["message_count"] == sum(sc.COUNTS.values())
+
+
+def _printed_entry(*arguments: str) -> dict[str, Any]:
+    """The one server entry of what `bagmcp config --client desktop ...` prints."""
+    printed = bagmcp("config", "--client", "desktop", *arguments)
+    assert printed.returncode == 0, printed.stderr
+    entries = json.loads(printed.stdout)["mcpServers"]
+    assert list(entries) == ["bagmcp"]
+    return dict(entries["bagmcp"])
+
+
+@pytest.mark.anyio
+async def test_bagmcp_config_for_claude_desktop_reaches_the_gateway_through_mcp_remote(
+    stack: Stack, uploaded: dict[BagKind, dict[str, Any]], node_examples: Path, tmp_path: Path
+) -> None:
+    entry = _printed_entry("--url", f"{stack.url}/mcp", "--token", new_token(stack, "desktop-user"))
+    env = {**entry["env"], "MCP_REMOTE_CONFIG_DIR": str(tmp_path), "npm_config_offline": "true"}
+    params = StdioServerParameters(command=entry["command"], args=entry["args"], env=env, cwd=node_examples)
+    info = await _bag_info_when_ready(params, ingested=True)
+    assert info["message_count"] == sum(sc.COUNTS.values())
+
+
+@pytest.mark.anyio
+async def test_bagmcp_config_for_claude_desktop_over_stdio_answers_bag_info(bag_folder: Path, tmp_path: Path) -> None:
+    entry = _printed_entry("--bags", str(bag_folder))
+    env = {"BAGMCP_DATA_DIR": str(tmp_path)} | {k: v for k, v in os.environ.items() if k == "PYTHONPATH"}
+    info = await _bag_info_when_ready(StdioServerParameters(command=entry["command"], args=entry["args"], env=env))
     assert info["message_count"] == sum(sc.COUNTS.values())
 
 

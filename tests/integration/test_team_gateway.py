@@ -22,35 +22,15 @@ from cryptography.hazmat.primitives.asymmetric import rsa
 from jwt.algorithms import RSAAlgorithm
 from mcp import Client
 
+from bagmcp_gateway.policy import CORE_TOOLS
 from tests.fixtures.bagfactory import BagKind
 from tests.fixtures.mcp_client import call, call_error, http_client
 from tests.fixtures.processes import BIN, http_ok, service, wait_until
 from tests.fixtures.servers import free_port
-from tests.integration.stack import TOKEN, Stack, gateway_env, run_gateway
+from tests.integration.stack import TOKEN, Stack, bagmcp, gateway_env, new_token, run_gateway
 
 pytestmark = pytest.mark.anyio
-CORE = {
-    "list_bags",
-    "bag_info",
-    "search_messages",
-    "analyze_trajectory",
-    "analyze_lidar_scan",
-    "get_tf_tree",
-    "plot_timeseries",
-    "plot_2d",
-}
-
-
-def bagmcp(*arguments: str) -> subprocess.CompletedProcess[str]:
-    return subprocess.run([str(BIN / "bagmcp"), *arguments], capture_output=True, text=True, timeout=120, check=False)
-
-
-def new_token(stack: Stack, name: str, *options: str) -> str:
-    made = bagmcp("token", "create", name, *options, "--url", stack.url, "--token", TOKEN, "--json")
-    assert made.returncode == 0, made.stderr
-    answer: dict[str, Any] = json.loads(made.stdout)
-    assert answer["name"] == name
-    return str(answer["token"])
+CORE = set(CORE_TOOLS)
 
 
 async def tool_names(url: str, token: str) -> list[str]:
@@ -89,7 +69,7 @@ def test_scopes_gate_the_rest_routes_and_the_mcp_endpoint(stack: Stack) -> None:
     assert no_read.status_code == 403
 
 
-async def test_a_core_token_sees_eight_tools_in_under_6000_characters_and_is_refused_the_rest(stack: Stack) -> None:
+async def test_a_core_token_sees_ten_tools_in_under_6000_characters_and_is_refused_the_rest(stack: Stack) -> None:
     core = new_token(stack, "small-model", "--profile", "core")
     async with http_client(f"{stack.url}/mcp", core) as client:
         tools = (await client.list_tools()).tools

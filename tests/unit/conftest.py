@@ -10,6 +10,7 @@ import pytest
 from tests.fixtures.bagfactory import BagKind
 from tests.fixtures.drive_bags import write_drive_bags
 from tests.fixtures.inprocess import InProcess, copy_bags, in_process
+from tests.fixtures.small_bags import write_instant_bag, write_late_topic_bag, write_old_tf_drive
 
 SCENARIO_NAMES = ["scenario", "scenario_db3", "scenario_mcap"]
 DRIVE_NAMES = ["drive", "drive_db3", "drive_mcap"]
@@ -31,5 +32,16 @@ def drive_bags(tmp_path_factory: pytest.TempPathFactory) -> dict[BagKind, Path]:
 @pytest.fixture(scope="session")
 def served_drive(drive_bags: dict[BagKind, Path], tmp_path_factory: pytest.TempPathFactory) -> Iterator[InProcess]:
     folder = copy_bags(list(drive_bags.values()), tmp_path_factory.mktemp("served-drive") / "bags")
+    with in_process(folder, tmp_path_factory.mktemp("data")) as services:
+        yield services
+
+
+@pytest.fixture(scope="session")
+def served_small(tmp_path_factory: pytest.TempPathFactory) -> Iterator[InProcess]:
+    """The small bags of tests/fixtures/small_bags.py (old_tf, late_imu, instant)."""
+    folder = tmp_path_factory.mktemp("served-small") / "bags"
+    folder.mkdir()
+    for write in (write_old_tf_drive, write_late_topic_bag, write_instant_bag):
+        write(folder)
     with in_process(folder, tmp_path_factory.mktemp("data")) as services:
         yield services

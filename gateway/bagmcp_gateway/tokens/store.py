@@ -24,7 +24,10 @@ class TokenStore(Protocol):
         """Store a new token; ArgumentError when the name is taken."""
         ...
 
-    def by_hash(self, digest: str) -> TokenRecord | None: ...
+    def by_hash(self, digest: str) -> TokenRecord | None:
+        """The record stored under this hash (the caller still compares the hashes in constant time)."""
+        ...
+
     def all(self) -> list[TokenRecord]: ...
     def revoke(self, name: str) -> bool:
         """Remove the token; False when no token has that name."""
@@ -32,20 +35,30 @@ class TokenStore(Protocol):
 
 
 class FileTokenStore:
-    """Tokens of an embedded server in one JSON file (mode 600), rewritten atomically."""
+    """Tokens of an embedded server in one JSON file (mode 600), rewritten atomically.
+
+    Read through: the file is parsed again whenever it changed (another process, `bagmcp token`, may
+    have rewritten it), so tokens made or revoked while a server runs count at its next lookup."""
 
     def __init__(self, path: Path) -> None:
         self._path = path
         self._lock = threading.Lock()
+        self._version: tuple[int, int, int] | None = None
+        self._records: dict[str, TokenRecord] = {}
 
     def _read(self) -> dict[str, TokenRecord]:
         try:
-            raw = json.loads(self._path.read_text())
+            stat = self._path.stat()
+            version = (stat.st_ino, stat.st_mtime_ns, stat.st_size)
+            if version != self._version:
+                raw = json.loads(self._path.read_text())
+                self._records = {name: TokenRecord.model_validate(body) for name, body in raw.items()}
+                self._version = version
         except FileNotFoundError:
-            return {}
+            self._version, self._records = None, {}
         except (OSError, ValueError) as err:
             raise ArgumentError(f"the token file {self._path} cannot be read ({err})") from err
-        return {name: TokenRecord.model_validate(body) for name, body in raw.items()}
+        return dict(self._records)
 
     def _write(self, records: dict[str, TokenRecord]) -> None:
         self._path.parent.mkdir(parents=True, exist_ok=True)
@@ -64,7 +77,7 @@ class FileTokenStore:
 
     def by_hash(self, digest: str) -> TokenRecord | None:
         with self._lock:
-            return next((r for r in self._read().values() if r.hash == digest), None)
+            return {r.hash: r for r in self._read().values()}.get(digest)
 
     def all(self) -> list[TokenRecord]:
         with self._lock:

@@ -10,10 +10,11 @@ import anyio
 import jwt
 from mcp.server.auth.provider import AccessToken
 
-from bagmcp_gateway.tokens.models import SCOPES, TokenRecord, token_hash
+from bagmcp_gateway.tokens.models import SCOPES, TokenRecord, same_hash, token_hash
 from bagmcp_gateway.tokens.store import TokenStore
 
 CACHE_S = 5.0
+CACHE_ENTRIES = 10_000  # wrong tokens are cached too: a flood of them must not grow memory without end
 
 
 @dataclass(frozen=True)
@@ -62,12 +63,17 @@ class GatewayVerifier:
         return access_of(record, token)
 
     async def _record(self, digest: str) -> TokenRecord | None:
-        if digest in self._static:
-            return self._static[digest]
+        """The record whose hash is ``digest``: found by hash, then compared in constant time."""
+        record = self._static.get(digest) or await self._stored(digest)
+        return record if record is not None and same_hash(record.hash, digest) else None
+
+    async def _stored(self, digest: str) -> TokenRecord | None:
         cached = self._cache.get(digest)
         if cached is not None and time.monotonic() - cached[0] < CACHE_S:
             return cached[1]
         record = await anyio.to_thread.run_sync(self._store.by_hash, digest) if self._store is not None else None
+        if len(self._cache) >= CACHE_ENTRIES:
+            self._cache.clear()
         self._cache[digest] = (time.monotonic(), record)
         return record
 

@@ -1,6 +1,6 @@
 """ROS camera images turned into pictures an agent can look at.
 
-raw_image decodes sensor_msgs/Image fields (colour, mono, Bayer, YUV 4:2:2 and depth encodings),
+raw_image decodes sensor_msgs/Image fields (colour, mono, 8- and 16-bit Bayer, YUV 4:2:2 and depth encodings),
 compressed_image decodes sensor_msgs/CompressedImage (JPEG/PNG and compressedDepth), both into a Picture
 (RGB or grey pixels; depth colourised with turbo). encode_picture scales a Picture down and encodes it
 as JPEG or PNG.
@@ -35,7 +35,10 @@ _DEPTH: dict[str, tuple[str, int, str]] = {
     "mono16": ("u2", 2, "raw"),
     "32fc1": ("f4", 4, "m"),
 }
-_BAYER = {"bayer_rggb8": "rggb", "bayer_bggr8": "bggr", "bayer_gbrg8": "gbrg", "bayer_grbg8": "grbg"}
+# encoding -> (colour filter pattern, bytes per site)
+_BAYER = {
+    f"bayer_{pattern}{bits}": (pattern, bits // 8) for pattern in ("rggb", "bggr", "gbrg", "grbg") for bits in (8, 16)
+}
 # Byte offsets of (Y0, U, Y1, V) inside each 4-byte group that holds two pixels.
 _YUV422 = {"yuv422": (1, 0, 3, 2), "uyvy": (1, 0, 3, 2), "yuv422_yuy2": (0, 1, 2, 3), "yuyv": (0, 1, 2, 3)}
 
@@ -97,8 +100,12 @@ def raw_image(
         values = np.ascontiguousarray(rows).view((">" if is_bigendian else "<") + dtype).reshape(height, width)
         return _depth_picture(values.astype(np.float64), encoding=encoding, unit=unit)
     if key in _BAYER:
-        mosaic = _rows(buf, encoding=encoding, width=width, height=height, step=step, row_bytes=width)
-        return _picture(_demosaic(mosaic, pattern=_BAYER[key]), encoding=encoding, kind="color")
+        pattern, size = _BAYER[key]
+        rows = _rows(buf, encoding=encoding, width=width, height=height, step=step, row_bytes=width * size)
+        dtype = "u1" if size == 1 else (">" if is_bigendian else "<") + "u2"
+        mosaic = np.ascontiguousarray(rows).view(dtype).reshape(height, width).astype(np.float64)
+        full_scale = float(np.iinfo(np.dtype(dtype)).max)
+        return _picture(_demosaic(mosaic, pattern=pattern, full_scale=full_scale), encoding=encoding, kind="color")
     if key in _YUV422:
         if width % 2:
             raise ValueError(f"A {encoding} image must have an even width, but this one is {width} pixels wide.")
@@ -213,12 +220,13 @@ def _convolve3x3(image: npt.NDArray[np.float64], kernel: npt.NDArray[np.float64]
     return out
 
 
-def _demosaic(mosaic: npt.NDArray[np.uint8], *, pattern: str) -> npt.NDArray[np.uint8]:
-    """Bilinear demosaic as a normalised convolution (exact for uniform colours, also at the borders)."""
+def _demosaic(mosaic: npt.NDArray[np.float64], *, pattern: str, full_scale: float) -> npt.NDArray[np.uint8]:
+    """Bilinear demosaic as a normalised convolution (exact for uniform colours, also at the borders), with
+    ``full_scale`` (255 or 65535) shown as 255."""
     height, width = mosaic.shape
     rows, cols = np.indices((height, width))
     site = np.array(list(pattern))[(rows % 2) * 2 + cols % 2]
-    raw = mosaic.astype(np.float64)
+    raw = mosaic * (255.0 / full_scale)
     channels: list[npt.NDArray[np.float64]] = []
     for name in "rgb":
         mask = (site == name).astype(np.float64)

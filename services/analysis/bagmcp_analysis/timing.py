@@ -110,7 +110,7 @@ def topic_timing(
         dropped_estimate=sum(math.floor(gap.periods + 0.5) - 1 for gap in gaps),
         duplicates=int((message_steps == 0).sum()),
         out_of_order=int((message_steps < 0).sum()),
-        header=None if header_ns is None else _header_timing(log, np.asarray(header_ns, dtype=np.int64)),
+        header=None if header_ns is None else header_timing(log, np.asarray(header_ns, dtype=np.int64)),
     )
 
 
@@ -150,7 +150,7 @@ def _gaps(
     return result
 
 
-def _header_timing(log: npt.NDArray[np.int64], header: npt.NDArray[np.int64]) -> HeaderTiming | None:
+def header_timing(log: npt.NDArray[np.int64], header: npt.NDArray[np.int64]) -> HeaderTiming | None:
     """None when no message carries a header stamp (all zero)."""
     if header.shape != log.shape:
         raise ValueError(f"Got {header.size} header stamps for {log.size} log times; pass one of each per message.")

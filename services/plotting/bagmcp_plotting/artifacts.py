@@ -16,7 +16,8 @@ from bagmcp_shared import keys
 from bagmcp_shared.errors import ObjectNotFoundError
 from bagmcp_shared.storage import ObjectStore
 
-ARTIFACT_FORMAT = 1  # bump when rendering changes, so old images are not reused
+ARTIFACT_URI = "bagmcp://artifacts/{artifact}"  # the MCP resource of a stored plot
+ARTIFACT_FORMAT = 2  # bump when rendering changes, so old images are not reused
 
 
 def artifact_id(kind: str, params: BaseModel, bag_ids: list[str]) -> str:
@@ -48,8 +49,16 @@ class Artifacts:
         self._store.put_bytes(keys.artifact(artifact, "json"), report.model_dump_json().encode())
 
     def png(self, artifact: str) -> bytes:
-        with self._store.open_read(keys.artifact(artifact, "png")) as stream:
-            return stream.read()
+        """The stored PNG; ObjectNotFoundError (saying what to do) for an id that names none."""
+        try:
+            if not artifact.isalnum():
+                raise ObjectNotFoundError(artifact)
+            with self._store.open_read(keys.artifact(artifact, "png")) as stream:
+                return stream.read()
+        except ObjectNotFoundError as err:
+            raise ObjectNotFoundError(
+                f"no plot artifact {artifact!r}; use the artifact id of a plot's answer, or plot again"
+            ) from err
 
     def cached(self, artifact: str, make: Callable[[], PlotReport]) -> PlotReport:
         """The stored report of ``artifact``, or ``make`` (which renders and saves it)."""
@@ -61,8 +70,6 @@ def build_artifact_router(artifacts: Artifacts) -> APIRouter:
 
     @router.get("/artifacts/{artifact}", response_class=Response)
     def download(artifact: str) -> Response:
-        if not artifact.isalnum():
-            raise ObjectNotFoundError(f"no artifact {artifact!r}")
         return Response(artifacts.png(artifact), media_type="image/png")
 
     return router

@@ -49,19 +49,28 @@ def read_path(ob: OpenBag, text: str, lo: int, hi: int, progress: Progress) -> P
     field = format_steps(parsed.steps)
     if not leaf.startswith(_NUMERIC):
         raise ArgumentError(f"{topic}.{field} is {leaf}, not a number; plot one of: {_numeric_fields(ob, msgtype)}")
-    series = read_series(ob.reader, topic, [field], index=ob.index, start_ns=lo, stop_ns=hi + 1, progress=progress)
+    (series,) = read_fields(ob, topic, [field], lo, hi, progress)
+    return series
+
+
+def read_fields(ob: OpenBag, topic: str, fields: list[str], lo: int, hi: int, progress: Progress) -> list[PathSeries]:
+    """Numeric fields of one topic over [lo, hi], read together (the index first, else one decoding pass)."""
+    series = read_series(ob.reader, topic, fields, index=ob.index, start_ns=lo, stop_ns=hi + 1, progress=progress)
     if not len(series.t_ns):
         raise ArgumentError(
             f"{topic} has no messages between {(lo - ob.start_ns) / 1e9:.3f} s and {(hi - ob.start_ns) / 1e9:.3f} s"
         )
-    return PathSeries(
-        name=f"{topic}.{field}",
-        topic=topic,
-        field=field,
-        unit=unit_of(field),
-        t_ns=series.t_ns,
-        values=series.columns[field].astype(np.float64),
-    )
+    return [
+        PathSeries(
+            name=f"{topic}.{field}",
+            topic=topic,
+            field=field,
+            unit=unit_of(field),
+            t_ns=series.t_ns,
+            values=series.columns[field].astype(np.float64),
+        )
+        for field in fields
+    ]
 
 
 def path_is_indexed(ob: OpenBag, text: str) -> bool:

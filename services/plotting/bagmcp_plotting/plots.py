@@ -3,25 +3,24 @@ artifact named by the request, and report what was plotted."""
 
 from __future__ import annotations
 
-import math
 import struct
 from collections.abc import Callable
+from typing import Any
 
 import numpy as np
 from pydantic import BaseModel
 
+from bagmcp_plotting import job_kinds as kinds
 from bagmcp_plotting.artifacts import Artifacts, artifact_id
 from bagmcp_plotting.data import PathSeries, read_path
 from bagmcp_plotting.drawing import Line, render_histogram, render_overlay, render_scan, render_timeseries, render_xy
-from bagmcp_plotting.job_kinds import CompareParams, HistogramParams, ScanPlotParams, TimeseriesParams, XYParams
+from bagmcp_plotting.positions import motion_start, positions
 from bagmcp_plotting.reports import Artifact, PlotReport, SeriesOut
 from bagmcp_shared.access import BagAccess, OpenBag
 from bagmcp_shared.errors import ArgumentError
-from bagmcp_shared.jobs import Progress
-from bagmcp_shared.topics import GPS, POSE_SOURCES, SCAN, choose_lidar_topic, choose_pose_topic
+from bagmcp_shared.jobs import JobKind, Progress, spans
+from bagmcp_shared.topics import GPS, SCAN, choose_lidar_topic, choose_pose_topic
 from bagmcp_shared.units import unit_of
-
-MOVING_MPS = 0.05
 
 
 def _series_out(series: PathSeries) -> SeriesOut:
@@ -35,8 +34,16 @@ def _png_size(png: bytes) -> tuple[int, int]:
     return int(width), int(height)
 
 
+def plot_id(access: BagAccess, kind: AnyKind, params: BaseModel, bags: list[str]) -> str:
+    """The artifact id of a plot: the same request on the same bag contents always gets the same id."""
+    return artifact_id(kind.name, params, [access.ready(b).id for b in bags])
+
+
 def _window_title(ob: OpenBag, lo: int, hi: int) -> str:
     return f"{ob.name}, {(lo - ob.start_ns) / 1e9:.1f}-{(hi - ob.start_ns) / 1e9:.1f} s"
+
+
+AnyKind = JobKind[Any, PlotReport]
 
 
 class Plotter:
@@ -53,16 +60,16 @@ class Plotter:
         self._artifacts.save(key, png, final)
         return final
 
-    def _plot(self, kind: str, params: BaseModel, bags: list[str], make: Callable[[str], PlotReport]) -> PlotReport:
-        ids = [self._access.ready(b).id for b in bags]
-        key = artifact_id(kind, params, ids)
+    def _plot(self, kind: AnyKind, params: BaseModel, bags: list[str], make: Callable[[str], PlotReport]) -> PlotReport:
+        key = plot_id(self._access, kind, params, bags)
         return self._artifacts.cached(key, lambda: make(key))
 
-    def timeseries(self, params: TimeseriesParams, progress: Progress) -> PlotReport:
+    def timeseries(self, params: kinds.TimeseriesParams, progress: Progress) -> PlotReport:
         def make(key: str) -> PlotReport:
             with self._access.open(params.bag) as ob:
                 lo, hi = ob.window(params.start, params.end)
-                series = [read_path(ob, p, lo, hi, progress) for p in params.paths]
+                steps = spans(progress, len(params.paths))
+                series = [read_path(ob, p, lo, hi, step) for p, step in zip(params.paths, steps, strict=True)]
                 title = params.title or f"{', '.join(s.name for s in series)} ({_window_title(ob, lo, hi)})"
                 lines = [Line(s.name, s.unit, s.t_s(ob.start_ns), s.values) for s in series]
                 png = render_timeseries(lines, style=params.style, title=title)
@@ -77,15 +84,16 @@ class Plotter:
                 )
                 return self._store(key, png, report)
 
-        return self._plot("timeseries", params, [params.bag], make)
+        return self._plot(kinds.PLOT_TIMESERIES, params, [params.bag], make)
 
-    def xy(self, params: XYParams, progress: Progress) -> PlotReport:
+    def xy(self, params: kinds.XYParams, progress: Progress) -> PlotReport:
         def make(key: str) -> PlotReport:
             with self._access.open(params.bag) as ob:
                 lo, hi = ob.window(params.start, params.end)
                 x, y, notes = self._xy_series(ob, params, lo, hi, progress)
-                title = f"{y.name} against {x.name} ({_window_title(ob, lo, hi)})"
                 trajectory = params.x is None
+                what = f"trajectory of {x.topic}" if trajectory else f"{y.name} against {x.name}"
+                title = f"{what} ({_window_title(ob, lo, hi)})"
                 png = render_xy(
                     x=x.values,
                     y=y.values,
@@ -108,28 +116,26 @@ class Plotter:
                 )
                 return self._store(key, png, report)
 
-        return self._plot("xy", params, [params.bag], make)
+        return self._plot(kinds.PLOT_2D, params, [params.bag], make)
 
     def _xy_series(
-        self, ob: OpenBag, params: XYParams, lo: int, hi: int, progress: Progress
+        self, ob: OpenBag, params: kinds.XYParams, lo: int, hi: int, progress: Progress
     ) -> tuple[PathSeries, PathSeries, list[str]]:
         if params.x is not None and params.y is not None:
-            x, y = read_path(ob, params.x, lo, hi, progress), read_path(ob, params.y, lo, hi, progress)
+            first, second = spans(progress, 2)
+            x, y = read_path(ob, params.x, lo, hi, first), read_path(ob, params.y, lo, hi, second)
             if not np.array_equal(x.t_ns, y.t_ns):
                 raise ArgumentError("x and y must be fields of the same topic (one point per message)")
             return x, y, []
         if params.x is not None or params.y is not None:
             raise ArgumentError("give both x and y message paths, or only a pose topic (or nothing) for the trajectory")
         topic, msgtype, others = choose_pose_topic(ob, params.topic)
-        if msgtype == GPS:
-            x, y = (read_path(ob, f"{topic}.{f}", lo, hi, progress) for f in ("longitude", "latitude"))
-        else:
-            position = POSE_SOURCES[msgtype].position
-            x, y = (read_path(ob, f"{topic}.{position}.{axis}", lo, hi, progress) for axis in "xy")
+        x, y = positions(ob, topic, msgtype, lo, hi, progress)
         chosen = f"trajectory of {topic}" + (f" (other pose topics: {', '.join(others)})" if others else "")
-        return x, y, [chosen]
+        gps = ["GPS fixes as metres east and north of the first valid fix"] if msgtype == GPS else []
+        return x, y, [chosen, *gps]
 
-    def scan(self, params: ScanPlotParams, progress: Progress) -> PlotReport:
+    def scan(self, params: kinds.ScanPlotParams, progress: Progress) -> PlotReport:
         def make(key: str) -> PlotReport:
             with self._access.open(params.bag) as ob:
                 topic, msgtype = choose_lidar_topic(ob, params.topic)
@@ -168,9 +174,9 @@ class Plotter:
                 )
                 return self._store(key, png, report)
 
-        return self._plot("scan", params, [params.bag], make)
+        return self._plot(kinds.PLOT_SCAN, params, [params.bag], make)
 
-    def histogram(self, params: HistogramParams, progress: Progress) -> PlotReport:
+    def histogram(self, params: kinds.HistogramParams, progress: Progress) -> PlotReport:
         def make(key: str) -> PlotReport:
             with self._access.open(params.bag) as ob:
                 lo, hi = ob.window(params.start, params.end)
@@ -190,19 +196,20 @@ class Plotter:
                 )
                 return self._store(key, png, report)
 
-        return self._plot("histogram", params, [params.bag], make)
+        return self._plot(kinds.PLOT_HISTOGRAM, params, [params.bag], make)
 
-    def compare(self, params: CompareParams, progress: Progress) -> PlotReport:
+    def compare(self, params: kinds.CompareParams, progress: Progress) -> PlotReport:
         def make(key: str) -> PlotReport:
             lines, summaries, notes, names = [], [], [], []
             first_start = first_end = None
-            for bag in params.bags:
+            for bag, step in zip(params.bags, spans(progress, len(params.bags)), strict=True):
+                aligning, reading = spans(step, 2)
                 with self._access.open(bag) as ob:
-                    series = read_path(ob, params.path, ob.start_ns, ob.end_ns, progress)
-                    origin = _motion_start(ob, progress) if params.align == "motion" else ob.start_ns
+                    origin = motion_start(ob, aligning) if params.align == "motion" else ob.start_ns
                     if origin is None:
                         notes.append(f"{ob.name}: no motion found, aligned on its start")
                         origin = ob.start_ns
+                    series = read_path(ob, params.path, ob.start_ns, ob.end_ns, reading)
                     lines.append(Line(ob.name, series.unit, series.t_s(origin), series.values))
                     summaries.append(_series_out(series).model_copy(update={"name": f"{ob.name}: {series.name}"}))
                     names.append(ob.name)
@@ -211,7 +218,8 @@ class Plotter:
             unit = unit_of(params.path.partition(".")[2])
             label = f"{params.path} [{unit}]" if unit else params.path
             since = "first motion" if params.align == "motion" else "bag start"
-            title = f"{params.path}: {', '.join(names)}"
+            first, last = min(float(line.x.min()) for line in lines), max(float(line.x.max()) for line in lines)
+            title = f"{params.path}: {', '.join(names)} ({first:.1f} to {last:.1f} s from each {since})"
             png = render_overlay(lines, title=title, y_label=label, x_label=f"time from {since} [s]")
             report = PlotReport(
                 bags=names,
@@ -224,23 +232,7 @@ class Plotter:
             )
             return self._store(key, png, report)
 
-        return self._plot("compare", params, params.bags, make)
-
-
-def _motion_start(ob: OpenBag, progress: Progress) -> int | None:
-    """Log time of the first pose that moved (speed over MOVING_MPS), or None."""
-    try:
-        topic, msgtype, _ = choose_pose_topic(ob, None)
-    except ArgumentError:
-        return None
-    if msgtype == GPS:
-        return None
-    position = POSE_SOURCES[msgtype].position
-    x, y = (read_path(ob, f"{topic}.{position}.{axis}", ob.start_ns, ob.end_ns, progress) for axis in "xy")
-    dt = np.diff(x.t_ns).astype(np.float64) / 1e9
-    speed = np.hypot(np.diff(x.values), np.diff(y.values)) / np.where(dt > 0, dt, math.inf)
-    moving = np.flatnonzero(speed > MOVING_MPS)
-    return int(x.t_ns[moving[0]]) if moving.size else None
+        return self._plot(kinds.COMPARE_RUNS, params, params.bags, make)
 
 
 _PENDING = Artifact(id="", url="", mime_type="image/png", bytes=0, width=0, height=0)

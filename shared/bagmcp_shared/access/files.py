@@ -46,16 +46,22 @@ class FolderBagFiles:
         self._root = root.resolve()
         self._index_root = index_root
         self._store = store
+        self._resolved: dict[str, Path] = {}
         index_root.mkdir(parents=True, exist_ok=True)
 
     def path_for(self, record: BagRecord) -> Path:
         if record.in_store:
             path = self._store.local_path(record.source)
             return path / record.files[0] if record.layout == "file" else path
-        path = (self._root / record.source).resolve()
-        if not path.is_relative_to(self._root) or not path.exists():
+        served = self._resolved.get(record.source)
+        if served is None:  # resolved once per source: symlinks in the served folder are read-only too
+            served = (self._root / record.source).resolve()
+            if not served.is_relative_to(self._root):
+                raise StorageError(f"bag {record.name} is no longer under the served folder {self._root}")
+            self._resolved[record.source] = served
+        if not served.exists():
             raise StorageError(f"bag {record.name} is no longer under the served folder {self._root}")
-        return path
+        return served
 
     def index_dir(self, record: BagRecord) -> Path | None:
         path = self._index_root / record.id
@@ -74,6 +80,9 @@ class CachedBagFiles:
 
     Fetches of one bag are serialized across threads and processes (a lock file per entry), so
     two workers never download the same bag at once and eviction skips entries being fetched.
+    An entry this process checked and marked used less than a quarter of ``min_idle_s`` ago is
+    served without the lock (no process evicts it before ``min_idle_s`` of disuse), so repeated
+    questions about a bag cost a dictionary lookup and a stat, not a lock and a directory scan.
     """
 
     def __init__(self, store: ObjectStore, cache_dir: Path, *, max_bytes: int, min_idle_s: float = 60.0) -> None:
@@ -84,6 +93,7 @@ class CachedBagFiles:
         self._guard = threading.Lock()
         self._guard_evict = threading.Lock()
         self._locks: dict[str, threading.Lock] = {}
+        self._checked: dict[tuple[str, tuple[str, ...]], float] = {}  # entry -> when last checked (monotonic)
         cache_dir.mkdir(parents=True, exist_ok=True)
         self._partials = own_scratch(cache_dir / ".partial")  # on the cache's file system, for the rename
 
@@ -105,12 +115,18 @@ class CachedBagFiles:
         An entry is complete when its marker exists and it holds every wanted file: the same content
         stored again under other file names is fetched again, never read under the old names."""
         root = self._dir / name
+        key = (name, tuple(wanted))
+        checked = self._checked.get(key)
+        if checked is not None and time.monotonic() - checked < self._min_idle_s / 4 and (root / _COMPLETE).exists():
+            return root
         with self._locked(name):  # eviction takes the same lock, so it cannot remove the entry meanwhile
             present = (root / _COMPLETE).exists() and all((root / k.rsplit("/", 1)[-1]).exists() for k in wanted)
             if not present:
                 self._fetch_objects(wanted, root)
             os.utime(root / _COMPLETE)
-        self._evict(keep={bag_id, f"{bag_id}-index"})
+            self._checked[key] = time.monotonic()
+        if not present:  # only a fetch adds bytes
+            self._evict(keep={bag_id, f"{bag_id}-index"})
         return root
 
     def path_for(self, record: BagRecord) -> Path:
@@ -177,4 +193,5 @@ class CachedBagFiles:
                 return False
             shutil.rmtree(entry, ignore_errors=True)
             fcntl.flock(handle, fcntl.LOCK_UN)
+        self._checked = {k: v for k, v in self._checked.items() if k[0] != entry.name}
         return True

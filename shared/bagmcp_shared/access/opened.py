@@ -103,7 +103,7 @@ class BagAccess:
     def __init__(self, catalog: Catalog, files: BagFiles, *, cache: ReaderCache | None = None) -> None:
         self.catalog = catalog
         self.files = files
-        self.cache = cache or ReaderCache()
+        self.cache = cache if cache is not None else ReaderCache()  # an empty cache is falsy
 
     def record(self, ref: str) -> BagRecord:
         return resolve_bag(self.catalog, ref)

@@ -19,6 +19,7 @@ from pathlib import Path
 from bagmcp_shared.bags import BagReader, open_bag
 from bagmcp_shared.errors import BagmcpError
 from bagmcp_shared.index import ColumnIndex
+from bagmcp_shared.settings import DEFAULT_OPEN_BAGS, OpenBagLimits
 
 READER_BASE_BYTES = 256 * 1024
 BYTES_PER_MESSAGE = 64  # the message and chunk indexes a reader keeps, per message
@@ -45,10 +46,10 @@ class _Entry:
 class ReaderCache:
     """At most ``max_bags`` bags and about ``max_bytes`` of readers and loaded index columns."""
 
-    def __init__(self, *, max_bags: int = 32, max_bytes: int = 1 << 30, max_idle_per_bag: int = 4) -> None:
-        self.max_bags = max_bags
-        self.max_bytes = max_bytes
-        self._max_idle = max_idle_per_bag
+    def __init__(self, limits: OpenBagLimits = DEFAULT_OPEN_BAGS) -> None:
+        self.max_bags = limits.max_bags
+        self.max_bytes = limits.max_bytes
+        self._max_idle = limits.max_readers_per_bag
         self._entries: OrderedDict[tuple[str, Path], _Entry] = OrderedDict()
         self._lock = threading.Lock()
         self.opened = 0  # readers opened since start (tests and the benchmark read it)

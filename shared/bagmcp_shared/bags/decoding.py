@@ -63,6 +63,41 @@ def _deserialize(store: Typestore, raw: RawMessage) -> object:
     return store.deserialize_cdr(raw.data, raw.connection.msgtype)
 
 
+@functools.lru_cache(maxsize=512)
+def definition_store(
+    msgtype: str, encoding: Encoding, definition_format: str, definition: str, digest: str
+) -> Typestore | str:
+    """The typestore of one stored definition, or why there is none. Kept per process (at most 512
+    definitions): building a typestore and compiling its (de)serializers costs tens of milliseconds, paid
+    once per definition instead of once per opened reader. A store is not changed once built."""
+    conn = Connection(0, "", msgtype, encoding, definition, definition_format, 0, digest)
+    store = get_typestore(Stores.EMPTY)
+    try:
+        store.register(_types_from_definition(conn))  # type: ignore[arg-type]
+    except Exception as err:  # parser errors are of many kinds
+        first_line = str(err).strip().splitlines()[0] if str(err).strip() else type(err).__name__
+        return f"its stored definition could not be parsed ({first_line})"
+    if missing := _complete(store, conn):
+        return f"its stored definition uses {missing}, which it does not define"
+    if encoding is Encoding.ROS1 and digest:
+        have = store.generate_msgdef(msgtype)[1]
+        if have != digest:
+            return f"its stored definition does not match its md5 ({have} != {digest})"
+    return store
+
+
+def _complete(store: Typestore, conn: Connection) -> str | None:
+    """Fill in types a stored definition uses but leaves out (recorders sometimes do) from the standard
+    ROS types; returns a type that stays missing, if any."""
+    standard = standard_store(conn.encoding)
+    while missing := [n for n in _referenced(store, conn.msgtype) if n not in store.fielddefs]:
+        name = missing[0]
+        if name not in standard.fielddefs:
+            return name
+        store.register({name: standard.fielddefs[name]})
+    return None
+
+
 class Decoder:
     """Decodes messages of a bag's connections; knows which types it can decode and why not."""
 
@@ -123,34 +158,11 @@ class Decoder:
             self._add_from_standard_types(conn)
 
     def _add_from_definition(self, conn: Connection) -> None:
-        store = get_typestore(Stores.EMPTY)
-        try:
-            store.register(_types_from_definition(conn))  # type: ignore[arg-type]
-        except Exception as err:  # parser errors are of many kinds
-            first_line = str(err).strip().splitlines()[0] if str(err).strip() else type(err).__name__
-            self._problems[conn.msgtype] = f"its stored definition could not be parsed ({first_line})"
-            return
-        if missing := self._complete(store, conn):
-            self._problems[conn.msgtype] = f"its stored definition uses {missing}, which it does not define"
-            return
-        if conn.encoding is Encoding.ROS1 and conn.digest:
-            have = store.generate_msgdef(conn.msgtype)[1]
-            if have != conn.digest:
-                self._problems[conn.msgtype] = f"its stored definition does not match its md5 ({have} != {conn.digest})"
-                return
-        self._stores[conn.msgtype] = store
-
-    @staticmethod
-    def _complete(store: Typestore, conn: Connection) -> str | None:
-        """Fill in types a stored definition uses but leaves out (recorders sometimes do) from the
-        standard ROS types; returns a type that stays missing, if any."""
-        standard = standard_store(conn.encoding)
-        while missing := [n for n in _referenced(store, conn.msgtype) if n not in store.fielddefs]:
-            name = missing[0]
-            if name not in standard.fielddefs:
-                return name
-            store.register({name: standard.fielddefs[name]})
-        return None
+        found = definition_store(conn.msgtype, conn.encoding, conn.definition_format, conn.definition, conn.digest)
+        if isinstance(found, str):
+            self._problems[conn.msgtype] = found
+        else:
+            self._stores[conn.msgtype] = found
 
     def _add_from_standard_types(self, conn: Connection) -> None:
         store = standard_store(conn.encoding)

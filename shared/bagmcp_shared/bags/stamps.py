@@ -13,6 +13,7 @@ from collections.abc import Callable
 import numpy as np
 import numpy.typing as npt
 
+from bagmcp_shared.bags.counted import ReportProgress, counted
 from bagmcp_shared.bags.models import Connection, Encoding, RawMessage
 from bagmcp_shared.bags.reader import BagReader
 from bagmcp_shared.errors import BagmcpError
@@ -56,13 +57,21 @@ def stamp_reader(reader: BagReader, conn: Connection) -> Callable[[RawMessage], 
 
 
 def topic_stamps(
-    reader: BagReader, topic: str, *, start_ns: int | None = None, stop_ns: int | None = None
+    reader: BagReader,
+    topic: str,
+    *,
+    start_ns: int | None = None,
+    stop_ns: int | None = None,
+    progress: ReportProgress | None = None,
 ) -> tuple[npt.NDArray[np.int64], npt.NDArray[np.int64] | None]:
     """Log times of ``topic`` and its header stamps (None when its type has no header)."""
-    readers = {c.id: stamp_reader(reader, c) for c in reader.topic_connections(topic)}
+    connections = reader.topic_connections(topic)
+    readers = {c.id: stamp_reader(reader, c) for c in connections}
     times: list[int] = []
     stamps: list[int] = []
-    for raw in reader.messages([topic], start_ns=start_ns, stop_ns=stop_ns):
+    messages = reader.messages([topic], start_ns=start_ns, stop_ns=stop_ns)
+    expected = sum(c.count for c in connections)
+    for raw in counted(messages, expected=expected, progress=progress, what=topic, every=10_000):
         times.append(raw.log_time_ns)
         read = readers.get(raw.connection.id)
         stamps.append(read(raw) if read is not None else 0)

@@ -17,6 +17,11 @@ class MemoryCatalog:
     def get(self, bag_id: str) -> BagRecord | None:
         return self._records.get(bag_id)
 
+    def named(self, name: str) -> BagRecord | None:
+        holder = self._names.get(name)
+        record = self._records.get(holder) if holder is not None else None
+        return record if record is not None and record.name == name else None
+
     def all(self) -> list[BagRecord]:
         return sorted(self._records.values(), key=lambda r: r.name)
 

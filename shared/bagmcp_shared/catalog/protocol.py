@@ -12,6 +12,10 @@ class Catalog(Protocol):
     resurrect a deleted bag or list one content twice."""
 
     def get(self, bag_id: str) -> BagRecord | None: ...
+    def named(self, name: str) -> BagRecord | None:
+        """The bag holding ``name`` (from the name reservations, without reading every record)."""
+        ...
+
     def all(self) -> list[BagRecord]: ...
     def add(self, record: BagRecord) -> bool:
         """Store a new record; False (and nothing written) when the id is already listed."""

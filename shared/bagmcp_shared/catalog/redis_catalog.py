@@ -13,6 +13,11 @@ _PREFIX = "bagmcp:catalog"
 # Add a record only if its id is new, and list its id in the same step.
 _ADD = "if redis.call('set', KEYS[1], ARGV[1], 'NX') then redis.call('sadd', KEYS[2], ARGV[2]) return 1 end return 0"
 _RELEASE = "if redis.call('get', KEYS[1]) == ARGV[1] then return redis.call('del', KEYS[1]) else return 0 end"
+# The record of the bag holding a name, in one round trip.
+_NAMED = (
+    f"local id = redis.call('get', KEYS[1]) if id then return redis.call('get', '{_PREFIX}:bag:' .. id) end "
+    "return false"
+)
 
 
 def _key(bag_id: str) -> str:
@@ -27,6 +32,12 @@ class RedisCatalog:
         with reachable("the catalog"):
             raw = self._redis.get(_key(bag_id))
         return BagRecord.model_validate_json(raw) if isinstance(raw, bytes) else None
+
+    def named(self, name: str) -> BagRecord | None:
+        with reachable("the catalog"):
+            raw = self._redis.eval(_NAMED, 1, f"{_PREFIX}:name:{name}")
+        record = BagRecord.model_validate_json(raw) if isinstance(raw, bytes) else None
+        return record if record is not None and record.name == name else None
 
     def all(self) -> list[BagRecord]:
         with reachable("the catalog"):

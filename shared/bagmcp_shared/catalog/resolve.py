@@ -19,7 +19,7 @@ def _not_found(ref: str, records: list[BagRecord]) -> BagNotFoundError:
 def exact_bag(catalog: Catalog, ref: str) -> BagRecord:
     """A bag by its exact id or name, for destructive calls (a prefix never deletes a bag)."""
     ref = ref.strip()
-    if (record := catalog.get(ref)) is not None:
+    if (record := catalog.get(ref) or catalog.named(ref)) is not None:
         return record
     records = catalog.all()
     found = next((r for r in records if r.name == ref), None)
@@ -29,9 +29,10 @@ def exact_bag(catalog: Catalog, ref: str) -> BagRecord:
 
 
 def resolve_bag(catalog: Catalog, ref: str) -> BagRecord:
-    """A bag by id, name, or unique prefix of either; unknown refs list close matches."""
+    """A bag by id, name, or unique prefix of either; unknown refs list close matches. An exact id or name
+    is found without reading every record; only prefixes and unknown refs list the catalog."""
     ref = ref.strip()
-    if (record := catalog.get(ref)) is not None:
+    if (record := catalog.get(ref) or catalog.named(ref)) is not None:
         return record
     records = catalog.all()
     exact = [r for r in records if r.name == ref]

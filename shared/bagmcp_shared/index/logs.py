@@ -8,6 +8,7 @@ from pathlib import Path
 from typing import Protocol, cast
 
 from bagmcp_shared.bags import BagReader
+from bagmcp_shared.bags.counted import ReportProgress, counted
 from bagmcp_shared.timebase import header_stamp_ns
 
 LOG_TYPES = frozenset({"rosgraph_msgs/msg/Log", "rcl_interfaces/msg/Log"})
@@ -67,8 +68,10 @@ def log_row(log_ns: int, message: object) -> LogRow:
     )
 
 
-def decode_logs(reader: BagReader, topic: str) -> list[LogRow]:
-    return [log_row(raw.log_time_ns, reader.decode(raw)) for raw in reader.messages([topic])]
+def decode_logs(reader: BagReader, topic: str, *, progress: ReportProgress | None = None) -> list[LogRow]:
+    expected = sum(c.count for c in reader.topic_connections(topic))
+    messages = counted(reader.messages([topic]), expected=expected, progress=progress, what=topic)
+    return [log_row(raw.log_time_ns, reader.decode(raw)) for raw in messages]
 
 
 def save_logs(rows: list[LogRow], path: Path) -> None:

@@ -2,13 +2,14 @@
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterable
+from collections.abc import Iterable
 from dataclasses import dataclass
 
 import numpy as np
 import numpy.typing as npt
 
 from bagmcp_shared.bags import BagReader, RawMessage
+from bagmcp_shared.bags.counted import ReportProgress, counted
 from bagmcp_shared.index.columns import column_getter
 from bagmcp_shared.timebase import header_stamp_ns
 
@@ -64,15 +65,14 @@ def decode_series(
     *,
     start_ns: int | None = None,
     stop_ns: int | None = None,
-    progress: Callable[[float, str], None] | None = None,
+    progress: ReportProgress | None = None,
 ) -> Series:
     """Decode ``topic`` and read ``columns`` of every message in the window (reporting progress)."""
     collector = Collector(reader, topic, columns)
-    expected = max(sum(c.count for c in reader.topic_connections(topic)), 1)
-    for number, raw in enumerate(reader.messages([topic], start_ns=start_ns, stop_ns=stop_ns)):
+    expected = sum(c.count for c in reader.topic_connections(topic))
+    messages = reader.messages([topic], start_ns=start_ns, stop_ns=stop_ns)
+    for raw in counted(messages, expected=expected, progress=progress, what=topic):
         collector.add(raw, reader.decode(raw))
-        if progress is not None and number % 1000 == 0:
-            progress(min(number / expected, 0.99), f"decoded {number} messages of {topic}")
     return collector.series("bag")
 
 

@@ -11,6 +11,7 @@ import numpy as np
 import numpy.typing as npt
 
 from bagmcp_shared.bags import BagReader, Connection
+from bagmcp_shared.bags.counted import ReportProgress, counted
 from bagmcp_shared.timebase import MAX_CLOCK_SKEW_NS, header_stamp_ns
 
 TF_TYPES = frozenset({"tf2_msgs/msg/TFMessage", "tf/msg/tfMessage"})
@@ -106,12 +107,16 @@ def tf_connections(reader: BagReader) -> list[Connection]:
     return [c for c in reader.connections if c.msgtype in TF_TYPES and c.count]
 
 
-def decode_transforms(reader: BagReader, connections: Iterable[Connection] | None = None) -> TransformRows:
+def decode_transforms(
+    reader: BagReader, connections: Iterable[Connection] | None = None, *, progress: ReportProgress | None = None
+) -> TransformRows:
     """Every transform of the bag's TF topics, decoded (when the index has none)."""
     chosen = list(connections) if connections is not None else tf_connections(reader)
     static = {c.id: is_static(c) for c in chosen}
     collector = TransformCollector()
-    for raw in reader.messages(sorted({c.topic for c in chosen})):
+    topics = sorted({c.topic for c in chosen})
+    expected = sum(c.count for t in topics for c in reader.topic_connections(t))
+    for raw in counted(reader.messages(topics), expected=expected, progress=progress, what=", ".join(topics)):
         if raw.connection.id in static or raw.connection.msgtype in TF_TYPES:
             collector.add(raw.log_time_ns, reader.decode(raw), static=static.get(raw.connection.id, False))
     return collector.rows_out()

@@ -2,7 +2,7 @@
 
 from bagmcp_shared.jobs.kinds import JobKind, JobRegistry
 from bagmcp_shared.jobs.models import TERMINAL, Job, JobState
-from bagmcp_shared.jobs.progress import Progress, ProgressReporter, Unreported
+from bagmcp_shared.jobs.progress import Progress, ProgressReporter, ProgressSpan, Unreported, spans
 from bagmcp_shared.jobs.run import run_job
 from bagmcp_shared.jobs.store import JobStore, MemoryJobStore, RedisJobStore, owned, update
 
@@ -16,9 +16,11 @@ __all__ = [
     "MemoryJobStore",
     "Progress",
     "ProgressReporter",
+    "ProgressSpan",
     "RedisJobStore",
     "Unreported",
     "owned",
     "run_job",
+    "spans",
     "update",
 ]

@@ -48,3 +48,24 @@ class Unreported:
 
     def cancelled(self) -> bool:
         return False
+
+
+class ProgressSpan:
+    """One step of longer work: reports its own 0..1 as ``start``..``end`` of the whole, so the whole
+    never goes backwards while the steps run one after another."""
+
+    def __init__(self, progress: Progress, start: float, end: float) -> None:
+        self._progress = progress
+        self._start = start
+        self._width = end - start
+
+    def __call__(self, fraction: float, message: str) -> None:
+        self._progress(self._start + self._width * max(0.0, min(1.0, fraction)), message)
+
+    def cancelled(self) -> bool:
+        return self._progress.cancelled()
+
+
+def spans(progress: Progress, steps: int) -> list[ProgressSpan]:
+    """``steps`` equal spans of the whole, in order."""
+    return [ProgressSpan(progress, i / steps, (i + 1) / steps) for i in range(steps)]

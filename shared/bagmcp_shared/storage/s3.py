@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import io
-import os
 from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
@@ -39,14 +38,14 @@ _MISSING_CODES = frozenset({"NoSuchKey", "NoSuchObject"})
 _TRANSPORT_ERRORS = (HTTPError, MinioException)
 
 
-def _http_client(read_timeout_s: float) -> urllib3.PoolManager:
+def _http_client(read_timeout_s: float, ca_file: str | None) -> urllib3.PoolManager:
     """A pool that gives up on an unreachable server within seconds (minio's default waits minutes)."""
     return urllib3.PoolManager(
         timeout=Timeout(connect=CONNECT_TIMEOUT_S, read=read_timeout_s),
         retries=Retry(total=3, connect=1, read=1, backoff_factor=0.2, status_forcelist=(500, 502, 503, 504)),
         maxsize=10,
         cert_reqs="CERT_REQUIRED",
-        ca_certs=os.environ.get("SSL_CERT_FILE") or certifi.where(),
+        ca_certs=ca_file or certifi.where(),
     )
 
 
@@ -63,7 +62,9 @@ class S3Store(StreamPutters):
         secure: bool = False,
         region: str | None = None,
         read_timeout_s: float = READ_TIMEOUT_S,
+        ca_file: str | None = None,
     ) -> None:
+        """``ca_file``: the certificate authorities to trust for ``secure`` (default: certifi's)."""
         self._url = f"{'https' if secure else 'http'}://{endpoint}"
         self._bucket = bucket
         try:
@@ -74,7 +75,7 @@ class S3Store(StreamPutters):
                 secret_key=secret_key,
                 secure=secure,
                 region=region,
-                http_client=_http_client(read_timeout_s),
+                http_client=_http_client(read_timeout_s, ca_file),
             )
         except ValueError as err:
             raise StorageError(f"Cannot use bucket {bucket!r} at {self._url}: {err}.") from err

@@ -153,6 +153,33 @@ def test_bayer_keeps_the_measured_value_at_each_site() -> None:
     assert picture.pixels[1, 1, 0] == round((0 + 20 + 80 + 100) / 4)
 
 
+@pytest.mark.parametrize("pattern", ["rggb", "bggr", "gbrg", "grbg"])
+@pytest.mark.parametrize("big_endian", [False, True])
+def test_sixteen_bit_bayer_shows_each_colour_scaled_to_eight_bits(pattern: str, big_endian: bool) -> None:
+    colour = (51400, 25700, 65535)  # 200, 100 and 255 times 257
+    sites = bayer_mosaic(pattern, (0, 1, 2), width=6, height=4)
+    mosaic = np.array(colour, dtype=">u2" if big_endian else "<u2")[sites]
+    step = 6 * 2 + 4  # padded rows
+    padded = np.zeros((4, step), dtype=np.uint8)
+    padded[:, :12] = mosaic.view(np.uint8).reshape(4, 12)
+    picture = raw_image(
+        encoding=f"bayer_{pattern}16", width=6, height=4, step=step, data=padded.tobytes(), is_bigendian=big_endian
+    )
+    assert (picture.kind, picture.width, picture.height) == ("color", 6, 4)
+    np.testing.assert_array_equal(picture.pixels, np.broadcast_to([200, 100, 255], (4, 6, 3)))
+
+
+def test_sixteen_bit_bayer_keeps_the_measured_value_at_each_site() -> None:
+    mosaic = (np.arange(16, dtype=np.uint16).reshape(4, 4) * 10 * 257).astype("<u2")
+    picture = raw_image(encoding="bayer_grbg16", width=4, height=4, step=8, data=mosaic.tobytes(), is_bigendian=False)
+    assert picture.pixels[0, 0, 1] == 0  # green site
+    assert picture.pixels[0, 1, 0] == 10  # red site
+    assert picture.pixels[1, 0, 2] == 40  # blue site
+    assert picture.pixels[1, 1, 1] == 50  # green site
+    # Blue at the red site (0, 1) is the mean of the blue sites below it, (1, 0) and (1, 2).
+    assert picture.pixels[0, 1, 2] == round((40 + 60) / 2)
+
+
 # Standard BT.601 studio-swing (Y, U, V) values of colour bars and the RGB they stand for.
 YUV_BARS = [((235, 128, 128), (255, 255, 255)), ((81, 90, 240), (255, 0, 0)), ((145, 54, 34), (0, 255, 0))]
 

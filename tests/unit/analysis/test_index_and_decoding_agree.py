@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-from pathlib import Path
 from typing import Any
 
 import pytest
@@ -14,32 +13,19 @@ from bagmcp_analysis.job_kinds import (
     StatisticsParams,
     TfTreeParams,
     TrajectoryParams,
+    TransformParams,
     WindowParams,
 )
 from bagmcp_analysis.queries.lidar import analyze_lidar
 from bagmcp_analysis.queries.logs import analyze_logs
 from bagmcp_analysis.queries.statistics import topic_statistics
-from bagmcp_analysis.queries.tf import get_tf_tree
+from bagmcp_analysis.queries.tf import get_tf_tree, lookup_transform
 from bagmcp_analysis.queries.trajectory import analyze_trajectory
 from bagmcp_analysis.queries.window import summarize_window
-from bagmcp_shared.access import BagAccess, BagFiles
-from bagmcp_shared.catalog import BagRecord
 from bagmcp_shared.jobs import Unreported
 from tests.fixtures.inprocess import InProcess
+from tests.unit.analysis.decoding import decoding
 from tests.unit.conftest import DRIVE_NAMES
-
-
-class WithoutIndex:
-    """The same bag files, but no columnar index: every question is answered by decoding."""
-
-    def __init__(self, files: BagFiles) -> None:
-        self._files = files
-
-    def path_for(self, record: BagRecord) -> Path:
-        return self._files.path_for(record)
-
-    def index_dir(self, record: BagRecord) -> Path | None:
-        return None
 
 
 def _plain(report: BaseModel) -> Any:
@@ -54,6 +40,8 @@ QUESTIONS = [
     (analyze_lidar, lambda bag: LidarParams(bag=bag, within_m=0.5)),
     (analyze_logs, lambda bag: LogParams(bag=bag, min_level="WARN")),
     (get_tf_tree, lambda bag: TfTreeParams(bag=bag, time=10)),
+    (lookup_transform, lambda bag: TransformParams(bag=bag, target_frame="map", source_frame="laser", time=13.55)),
+    (lookup_transform, lambda bag: TransformParams(bag=bag, target_frame="camera_link", source_frame="odom")),
     (topic_statistics, lambda bag: StatisticsParams(bag=bag, topic="/imu")),
     (summarize_window, lambda bag: WindowParams(bag=bag, start=19, end=27)),
 ]
@@ -65,10 +53,10 @@ def test_the_index_and_decoding_give_the_same_answer(
     served_drive: InProcess, bag: str, question: Any, params: Any
 ) -> None:
     access = served_drive.composition.embedded.resources.access
-    decoding = BagAccess(access.catalog, WithoutIndex(access.files))
     with access.open(bag) as ob:
         assert ob.index is not None
-    indexed, decoded = question(access, params(bag), Unreported()), question(decoding, params(bag), Unreported())
+    indexed = question(access, params(bag), Unreported())
+    decoded = question(decoding(access), params(bag), Unreported())
     assert _plain(indexed) == _plain(decoded)
     if hasattr(indexed, "source"):
         assert (indexed.source, decoded.source) == ("index", "bag")

@@ -5,7 +5,9 @@ from __future__ import annotations
 from pathlib import Path
 
 from bagmcp_cli.settings import EmbeddedSettings
-from bagmcp_shared.settings import Env
+from bagmcp_gateway.ratelimit import Limit
+from bagmcp_shared.resources import embedded_resources
+from bagmcp_shared.settings import Env, OpenBagLimits
 
 
 def test_each_served_folder_gets_its_own_data_directory(tmp_path: Path) -> None:
@@ -41,3 +43,20 @@ def test_serving_one_address_answers_to_it(tmp_path: Path) -> None:
     settings = EmbeddedSettings.from_env(tmp_path, None, Env({}))
     assert "192.168.1.20:*" in settings.http("192.168.1.20", 8000).allowed_hosts
     assert "[fd00::5]:*" in settings.http("fd00::5", 8000).allowed_hosts
+
+
+def test_serve_has_no_rate_limit_unless_one_is_set(tmp_path: Path) -> None:
+    assert EmbeddedSettings.from_env(tmp_path, None, Env({})).rate_limit is None
+    limited = EmbeddedSettings.from_env(tmp_path, None, Env({"BAGMCP_RATE_LIMIT_PER_S": "5", "BAGMCP_RATE_BURST": "9"}))
+    assert limited.rate_limit == Limit(rate_per_s=5.0, burst=9)
+
+
+def test_the_opened_bag_limits_come_from_the_environment_and_reach_the_bag_access(tmp_path: Path) -> None:
+    env = Env({"BAGMCP_OPEN_BAGS": "3", "BAGMCP_OPEN_BAGS_MAX_BYTES": "1000000", "BAGMCP_OPEN_READERS_PER_BAG": "2"})
+    settings = EmbeddedSettings.from_env(tmp_path, tmp_path / "data", env)
+    assert settings.open_bags == OpenBagLimits(max_bags=3, max_bytes=1_000_000, max_readers_per_bag=2)
+    assert EmbeddedSettings.from_env(tmp_path, None, Env({})).open_bags == OpenBagLimits()
+    embedded = embedded_resources(tmp_path, tmp_path / "data", open_bags=settings.open_bags)
+    cache = embedded.resources.access.cache  # the configured one, not a default put in its place
+    assert (cache.max_bags, cache.max_bytes) == (3, 1_000_000)
+    embedded.runner.shutdown()

@@ -1,7 +1,7 @@
 """The whole tool surface, as a model reads it on every turn: small, described, annotated.
 
-Prints each tool's size (name + description + input schema, in characters) and the totals; the README
-states the same figures."""
+Prints each tool's size (name + description + input schema, in characters) and the totals, and the whole
+tools/list per profile as it is sent; the README states the same figures."""
 
 from __future__ import annotations
 
@@ -11,10 +11,12 @@ import pytest
 from mcp import Client
 from mcp.types import Tool
 
+from bagmcp_gateway.policy import DEFAULT_PROFILES, ToolPolicy, listing_characters
 from tests.fixtures.inprocess import InProcess
 
 pytestmark = pytest.mark.anyio
 AVERAGE_BUDGET, TOOL_BUDGET = 600, 1200
+CORE_LISTING_BUDGET = 6000  # the whole tools/list of the core profile, for small models
 
 
 def model_reads(tool: Tool) -> int:
@@ -57,3 +59,20 @@ async def test_every_argument_has_a_one_line_description(served: InProcess) -> N
 async def test_schemas_carry_no_titles(served: InProcess) -> None:
     for tool in await _tools(served):
         assert '"title"' not in json.dumps(tool.input_schema).replace('"title": {', ""), tool.name
+
+
+async def test_each_profile_s_whole_tools_list_is_printed_and_core_stays_small(served: InProcess) -> None:
+    tools = await _tools(served)
+    listings = {name: ToolPolicy().profile_listing(tools, name) for name in DEFAULT_PROFILES}
+    for name, listing in listings.items():
+        print(f"profile {name}: {len(listing)} tools, tools/list {listing_characters(listing):,} characters")
+    assert [t.name for t in listings["full"]] == [t.name for t in tools]
+    core = [t.name for t in listings["core"]]
+    assert {"bag_info", "search_messages", "get_job", "cancel_job"} <= set(core)
+    assert len(core) == 10
+    assert listing_characters(listings["core"]) < CORE_LISTING_BUDGET
+
+
+async def test_every_description_ends_with_an_example_call(served: InProcess) -> None:
+    for tool in await _tools(served):
+        assert "Example: " in (tool.description or ""), f"{tool.name} has no example"

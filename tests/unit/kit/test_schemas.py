@@ -34,3 +34,33 @@ def test_output_schemas_keep_null_as_a_type() -> None:
     lean = lean_output(Inner.model_json_schema())
     assert lean["properties"]["value"] == {"type": ["number", "null"]}
     assert lean["properties"]["title"] == {"type": "string"}
+
+
+class Stamp(BaseModel):
+    offset_s: float
+
+
+class Window(BaseModel):
+    start: Stamp
+    end: Stamp | None = None
+    note: Inner | None = Field(default=None, description="once only")
+
+
+def test_output_schemas_drop_defaults_and_write_a_definition_used_once_in_place() -> None:
+    lean = lean_output(Window.model_json_schema())
+    assert lean["properties"]["note"] == {
+        "anyOf": [
+            {
+                "properties": {"title": {"type": "string"}, "value": {"type": ["number", "null"]}},
+                "required": ["title", "value"],
+                "type": "object",
+            },
+            {"type": "null"},
+        ],
+        "description": "once only",
+    }
+    assert lean["properties"]["start"] == {"$ref": "#/$defs/Stamp"}  # used twice: stays a definition
+    assert lean["$defs"] == {
+        "Stamp": {"properties": {"offset_s": {"type": "number"}}, "required": ["offset_s"], "type": "object"}
+    }
+    assert "default" not in str(lean)

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import pytest
 
-from bagmcp_shared.catalog import MemoryCatalog, exact_bag, resolve_bag
+from bagmcp_shared.catalog import BagRecord, MemoryCatalog, exact_bag, resolve_bag
 from bagmcp_shared.errors import AmbiguousBagError, BagNotFoundError, NameTakenError
 from tests.fixtures.records import stored_record
 
@@ -49,3 +49,31 @@ def test_destructive_calls_take_only_an_exact_id_or_name(catalog: MemoryCatalog)
     assert exact_bag(catalog, "d4e5f6").name == "husky_indoor"
     with pytest.raises(BagNotFoundError):
         exact_bag(catalog, "jack")
+
+
+class ListingCounter(MemoryCatalog):
+    def __init__(self) -> None:
+        super().__init__()
+        self.listings = 0
+
+    def all(self) -> list[BagRecord]:
+        self.listings += 1
+        return super().all()
+
+
+def test_a_bag_named_exactly_is_found_without_listing_and_forgotten_when_deleted(catalog: MemoryCatalog) -> None:
+    counting = ListingCounter()
+    for record in catalog.all():
+        counting.claim_name(record.name, record.id)
+        counting.add(record)
+    catalog = counting
+    assert resolve_bag(catalog, "husky_indoor").id == "d4e5f6"
+    assert exact_bag(catalog, "jackal").id == "0789ab"
+    assert counting.listings == 0  # an exact name needs no listing of every record
+    catalog.delete("0789ab")
+    assert catalog.named("jackal") is None
+    with pytest.raises(BagNotFoundError):
+        resolve_bag(catalog, "jackal")
+    catalog.claim_name("jackal", "1111")
+    assert catalog.add(stored_record("1111", "jackal"))  # the name now belongs to another bag
+    assert resolve_bag(catalog, "jackal").id == "1111"

@@ -12,6 +12,7 @@ from bagmcp_analysis.lidar.pointcloud import CloudField, CloudStats, cloud_stats
 from bagmcp_analysis.lidar.scan import Scan, ScanStats, first_within, minimum_profile, scan_stats
 from bagmcp_analysis.reports.lidar import Closest, FirstWithin, LidarReport, MinimumProfile
 from bagmcp_shared.access import BagAccess, OpenBag
+from bagmcp_shared.bags.counted import counted
 from bagmcp_shared.errors import ArgumentError
 from bagmcp_shared.index import read_series
 from bagmcp_shared.jobs import Progress
@@ -100,15 +101,13 @@ def _minima(
         ranges, bearings = (series.columns[c].astype(np.float64) for c in columns)
         return series.t_ns, ranges, bearings, series.source
     times, ranges_out, bearings_out = [], [], []
-    expected = max(ob.topic(topic).count, 1)
-    for number, raw in enumerate(ob.reader.messages([topic], start_ns=lo, stop_ns=hi + 1)):
+    clouds = ob.reader.messages([topic], start_ns=lo, stop_ns=hi + 1)
+    for raw in counted(clouds, expected=ob.topic(topic).count, progress=progress, what=topic, every=20):
         stats = _cloud(ob.reader.decode(raw))
         hit = stats.closest
         times.append(raw.log_time_ns)
         ranges_out.append(float(hit.range_m) if hit else math.nan)
         bearings_out.append(math.radians(hit.bearing_deg) if hit else math.nan)
-        if number % 20 == 0:
-            progress(min(number / expected, 0.99), f"read {number} clouds of {topic}")
     return (
         np.asarray(times, dtype=np.int64),
         np.asarray(ranges_out, dtype=np.float64),

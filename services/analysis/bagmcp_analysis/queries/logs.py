@@ -8,7 +8,7 @@ from bagmcp_analysis.reports.logs import BurstOut, LogEntry, LogReport, LogSumma
 from bagmcp_shared.access import BagAccess, OpenBag
 from bagmcp_shared.errors import ArgumentError
 from bagmcp_shared.index import LOG_TYPES, LogRow, decode_logs
-from bagmcp_shared.jobs import Progress
+from bagmcp_shared.jobs import Progress, spans
 from bagmcp_shared.log_levels import level_name
 
 ROS2_LOG = "rcl_interfaces/msg/Log"
@@ -31,8 +31,7 @@ def _rows(ob: OpenBag, topic: str, progress: Progress) -> list[LogRow]:
     indexed = ob.index.logs(topic) if ob.index is not None else None
     if indexed is not None:
         return indexed
-    progress(0.1, f"decoding {topic}")
-    return decode_logs(ob.reader, topic)
+    return decode_logs(ob.reader, topic, progress=progress)
 
 
 def read_records(ob: OpenBag, topics: list[str], progress: Progress) -> tuple[list[LogRecord], int]:
@@ -40,9 +39,9 @@ def read_records(ob: OpenBag, topics: list[str], progress: Progress) -> tuple[li
     seen: set[tuple[int, int, str, str]] = set()
     records: list[LogRecord] = []
     duplicates = 0
-    for topic in topics:
+    for topic, step in zip(topics, spans(progress, len(topics)), strict=True):
         ros2 = ob.msgtype(topic) == ROS2_LOG
-        for row in _rows(ob, topic, progress):
+        for row in _rows(ob, topic, step):
             key = (row.stamp_ns or row.t_ns, row.level, row.node, row.text)
             if key in seen:
                 duplicates += 1

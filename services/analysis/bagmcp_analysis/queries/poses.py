@@ -7,11 +7,12 @@ from dataclasses import dataclass
 import numpy as np
 import numpy.typing as npt
 
-from bagmcp_analysis.trajectory.track import Track, pick_clock, track_from_fixes
+from bagmcp_analysis.trajectory.track import Track, pick_clock, track_of_fixes
 from bagmcp_shared.access import OpenBag
 from bagmcp_shared.errors import ArgumentError
 from bagmcp_shared.index import read_series
 from bagmcp_shared.jobs import Progress
+from bagmcp_shared.local_fixes import read_local_fixes
 from bagmcp_shared.timebase import MAX_CLOCK_SKEW_NS
 from bagmcp_shared.topics import GPS, POSE_SOURCES
 
@@ -44,16 +45,10 @@ def read_poses(ob: OpenBag, topic: str, msgtype: str, lo: int, hi: int, progress
     source = POSE_SOURCES[msgtype]
     notes: list[str] = []
     if msgtype == GPS:
-        columns = ["latitude", "longitude", "altitude", "status.status"]
-        series = read_series(ob.reader, topic, columns, index=ob.index, start_ns=lo, stop_ns=hi + 1, progress=progress)
-        lat, lon, alt, status = (series.columns[c].astype(np.float64) for c in columns)
-        valid = (status >= 0) & np.isfinite(lat) & np.isfinite(lon)
-        log_ns = series.t_ns[valid]
-        stamps, clock, note = _clock(log_ns, series.header_ns[valid])
-        if valid.any():
-            track = track_from_fixes(stamps, lat[valid], lon[valid], alt[valid], status[valid].astype(np.int64))
-        else:
-            raise ArgumentError(f"{topic} has no valid GPS fix in this window (status >= 0 with a position)")
+        fixes = read_local_fixes(ob, topic, lo, hi, progress)
+        log_ns = fixes.log_ns
+        stamps, clock, note = _clock(log_ns, fixes.header_ns)
+        track = track_of_fixes(stamps, fixes.metres)
         notes.append("GPS fixes as metres east (x) and north (y) of the first valid fix; no heading")
     else:
         columns = [f"{source.position}.{axis}" for axis in "xyz"] + [f"{source.orientation}.yaw"]

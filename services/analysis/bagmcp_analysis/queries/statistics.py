@@ -14,22 +14,22 @@ from bagmcp_shared.jobs import Progress
 
 
 def stamps_of(
-    ob: OpenBag, topic: str, lo: int | None = None, hi: int | None = None
+    ob: OpenBag, topic: str, lo: int | None = None, hi: int | None = None, progress: Progress | None = None
 ) -> tuple[npt.NDArray[np.int64], npt.NDArray[np.int64] | None, str]:
     """Log times and header stamps of a topic: from the index when it holds the topic, else the bag."""
+    stop = None if hi is None else hi + 1
     if ob.index is not None and ob.indexed(topic):
-        series = ob.index.read(topic, [], start_ns=lo, stop_ns=None if hi is None else hi + 1)
+        series = ob.index.read(topic, [], start_ns=lo, stop_ns=stop)
         headers = series.header_ns if bool((series.header_ns > 0).any()) else None
         return series.t_ns, headers, "index"
-    times, headers = topic_stamps(ob.reader, topic, start_ns=lo, stop_ns=None if hi is None else hi + 1)
+    times, headers = topic_stamps(ob.reader, topic, start_ns=lo, stop_ns=stop, progress=progress)
     return times, headers, "bag"
 
 
 def topic_statistics(access: BagAccess, params: StatisticsParams, progress: Progress) -> TopicStatisticsReport:
     with access.open(params.bag) as ob:
         topic = ob.topic_name(params.topic)
-        progress(0.05, f"reading the stamps of {topic}")
-        times, headers, source = stamps_of(ob, topic)
+        times, headers, source = stamps_of(ob, topic, progress=progress)
         timing = topic_timing(times, headers, gap_periods=params.gap_periods)
         return TopicStatisticsReport(
             bag=ob.name,

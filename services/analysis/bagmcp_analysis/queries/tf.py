@@ -10,7 +10,7 @@ from bagmcp_analysis.tf.tree import TfBuffer, TfSample
 from bagmcp_shared.access import BagAccess, OpenBag
 from bagmcp_shared.errors import ArgumentError
 from bagmcp_shared.index import TransformRows, decode_transforms, tf_connections
-from bagmcp_shared.jobs import Progress
+from bagmcp_shared.jobs import Progress, spans
 
 
 def _topics(ob: OpenBag) -> list[str]:
@@ -39,11 +39,11 @@ def read_buffer(ob: OpenBag, progress: Progress) -> tuple[TfBuffer, list[str]]:
     """Every transform of the bag (from the index when built), as a TF buffer."""
     topics = _topics(ob)
     samples: list[TfSample] = []
-    for topic in topics:
+    for topic, step in zip(topics, spans(progress, len(topics)), strict=True):
         rows = ob.index.transforms(topic) if ob.index is not None else None
         if rows is None:
-            progress(0.1, f"decoding {topic}")
-            rows = decode_transforms(ob.reader, [c for c in tf_connections(ob.reader) if c.topic == topic])
+            connections = [c for c in tf_connections(ob.reader) if c.topic == topic]
+            rows = decode_transforms(ob.reader, connections, progress=step)
         samples += _samples(rows)
     return TfBuffer(samples), topics
 

@@ -8,7 +8,10 @@ from pydantic import BaseModel, Field
 
 from bagmcp_analysis.reports.lidar import Closest
 from bagmcp_analysis.reports.logs import LogEntry
+from bagmcp_analysis.reports.trajectory import StopOut
 from bagmcp_shared.timebase import Instant
+
+TopicStatus = Literal["ok", "slow", "late", "silent", "gap", "absent"]
 
 
 class TopicActivity(BaseModel):
@@ -18,8 +21,11 @@ class TopicActivity(BaseModel):
     bag_rate_hz: float | None = Field(description="over the whole bag")
     longest_silence_s: float | None = Field(description="longest time without a message inside the window")
     silent_from: Instant | None
-    status: Literal["ok", "slow", "silent", "gap", "absent"] = Field(
-        description="slow: under half its bag rate; gap: silent over 3 periods; absent: not recorded then"
+    delay_s: float | None = Field(description="median log time - header stamp in the window")
+    bag_delay_s: float | None = Field(description="the same over the whole bag")
+    status: TopicStatus = Field(
+        description="slow: under half its bag rate; gap: silent over 3 periods; late: delay over twice "
+        "the bag's and 50 ms more; absent: not recorded then"
     )
 
 
@@ -30,7 +36,8 @@ class Motion(BaseModel):
     max_speed_mps: float | None
     moving_s: float
     stopped_s: float
-    stops: int
+    stops: list[StopOut] = Field(description="the first stops in the window")
+    stop_count: int
 
 
 class WindowReport(BaseModel):
@@ -38,7 +45,9 @@ class WindowReport(BaseModel):
     start: Instant
     end: Instant
     statements: list[str] = Field(description="what happened, with numbers and times")
-    topics: list[TopicActivity] = Field(description="topics that were not ok first")
+    topics: list[TopicActivity] = Field(description="topics that were not ok first (bounded)")
+    topics_total: int = Field(description="topics with messages in the bag")
+    topics_by_status: dict[str, int]
     warnings: dict[str, int] = Field(description="log records at WARN or above by level")
     log_entries: list[LogEntry] = Field(description="the first WARN-or-worse records")
     motion: Motion | None

@@ -12,7 +12,7 @@ from pydantic import Field
 from bagmcp_analysis.queries.images import get_image_at_time
 from bagmcp_analysis.reports.images import ImageReport
 from bagmcp_kit.answers import answer, tool_errors
-from bagmcp_kit.arguments import BagRef, TimeArg, TopicName
+from bagmcp_kit.arguments import BagRef, TimeArg
 from bagmcp_shared.access import BagAccess
 
 
@@ -23,12 +23,12 @@ class ImageTools:
     async def get_image_at_time(
         self,
         bag: BagRef,
-        topic: TopicName,
+        topic: Annotated[str, Field(description="Image or CompressedImage topic")],
         time: TimeArg,
         max_size: Annotated[int, Field(ge=16, le=4096, description="longest side in pixels")] = 1024,
     ) -> Annotated[CallToolResult, ImageReport]:
-        """The camera image nearest a time, as an image you can see (raw encodings, bayer, yuv, depth with a
-        colour map, JPEG/PNG), with its stamp, encoding and size."""
+        """The camera image nearest a time, as an image you can see (raw, Bayer, YUV, depth in colour, JPEG,
+        PNG), with its stamp, encoding and size. Example: topic="/camera/image_raw", time=3."""
         with tool_errors():
             report, encoded = await anyio.to_thread.run_sync(
                 lambda: get_image_at_time(self._access, bag, topic, time, max_size=max_size)

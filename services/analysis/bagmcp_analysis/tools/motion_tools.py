@@ -58,7 +58,7 @@ class MotionTools:
         end: TimeArg | None = None,
     ) -> Annotated[CallToolResult, LongAnswer[TrajectoryReport]]:
         """Summarize a path from odometry, pose, transform or GPS: distance, displacement, mean/max speed,
-        moving vs stopped time, stops, extents, start/end pose and corner waypoints."""
+        moving vs stopped time, stops, extents, start/end pose, corner waypoints. Example: start=20, end=75."""
         with tool_errors():
             params = params_of(TrajectoryParams, bag=bag, topic=topic, start=start, end=end)
         return await self._work.run(
@@ -85,8 +85,8 @@ class MotionTools:
     async def summarize_window(
         self, ctx: Context, bag: BagRef, start: TimeArg | None = None, end: TimeArg | None = None
     ) -> Annotated[CallToolResult, LongAnswer[WindowReport]]:
-        """What happened in a window, as evidence with numbers: topics silent or slow against their usual rate,
-        warnings and errors, motion, closest obstacle. Example: what went wrong around 50 s: start=45, end=55."""
+        """What happened in a window, as evidence with numbers: topics silent, slow or late against the whole
+        bag, warnings and errors, motion and stops, closest obstacle. Example: start=45, end=55."""
         with tool_errors():
             params = params_of(WindowParams, bag=bag, start=start, end=end)
         return await self._work.run(

@@ -30,8 +30,8 @@ from bagmcp_kit.jobs import LongAnswer
 from bagmcp_kit.longwork import LongWork
 from bagmcp_shared.access import BagAccess
 
-Level = Annotated[str | None, Field(description="DEBUG, INFO, WARN, ERROR, FATAL (or the number)")]
-Frame = Annotated[str, Field(description="TF frame id, e.g. map")]
+Level = Annotated[str | None, Field(description="DEBUG, INFO, WARN, ERROR, FATAL (or number)")]
+Frame = Annotated[str, Field(description="TF frame id")]
 
 
 def _log_summary(r: LogReport) -> str:
@@ -59,7 +59,7 @@ class RecordTools:
         ctx: Context,
         bag: BagRef,
         level: Level = None,
-        min_level: Level = None,
+        min_level: Annotated[str | None, Field(description="this level or worse")] = None,
         node: Annotated[str | None, Field(description="node name (or part of it)")] = None,
         contains: Annotated[str | None, Field(description="text in the message, any case")] = None,
         start: TimeArg | None = None,
@@ -92,7 +92,7 @@ class RecordTools:
         self, ctx: Context, bag: BagRef, time: Annotated[TimeArg | None, Field(description="default: whole bag")] = None
     ) -> Annotated[CallToolResult, LongAnswer[TfTreeReport]]:
         """The TF frames and their parent/child edges (static or dynamic, with rates), roots, and frames
-        published under more than one parent."""
+        published under more than one parent. Example: time=10."""
         with tool_errors():
             params = params_of(TfTreeParams, bag=bag, time=time)
         return await self._work.run(
@@ -126,11 +126,16 @@ class RecordTools:
         )
 
     async def topic_statistics(
-        self, ctx: Context, bag: BagRef, topic: TopicName
+        self,
+        ctx: Context,
+        bag: BagRef,
+        topic: TopicName,
+        gap_periods: Annotated[float, Field(gt=1, description="a gap: longer than this many periods")] = 3.0,
     ) -> Annotated[CallToolResult, LongAnswer[TopicStatisticsReport]]:
-        """Timing of one topic: rate, jitter, gaps, estimated dropped messages, header-stamp delay."""
+        """Timing of one topic: rate, jitter, gaps, estimated dropped messages, header-stamp delay.
+        Example: topic="/imu", gap_periods=5."""
         with tool_errors():
-            params = params_of(StatisticsParams, bag=bag, topic=topic)
+            params = params_of(StatisticsParams, bag=bag, topic=topic, gap_periods=gap_periods)
         return await self._work.run(
             ctx,
             STATISTICS,

@@ -14,6 +14,7 @@ import numpy.typing as npt
 from bagmcp_analysis.trajectory.motion import Motion, analyse_motion
 from bagmcp_analysis.trajectory.types import Clock, Extents, Stop, Track, TrackSummary, Waypoint
 from bagmcp_analysis.trajectory.waypoints import select_waypoints
+from bagmcp_shared.local_fixes import EARTH_RADIUS_M, LocalMetres, local_metres
 
 __all__ = [
     "EARTH_RADIUS_M",
@@ -26,9 +27,8 @@ __all__ = [
     "pick_clock",
     "summarize_track",
     "track_from_fixes",
+    "track_of_fixes",
 ]
-
-EARTH_RADIUS_M = 6_371_008.8
 
 
 def pick_clock(
@@ -60,29 +60,22 @@ def track_from_fixes(
     """NavSatFix to metres east (x), north (y), up (z) around the first valid fix; yaw unknown (NaN).
 
     Fixes with status < 0 or non-finite latitude/longitude are dropped; z is NaN where the altitude is not
-    finite. Equirectangular projection on a sphere, accurate for areas of a few kilometres.
-    """
-    lat = np.asarray(latitude_deg, dtype=np.float64)
-    lon = np.asarray(longitude_deg, dtype=np.float64)
-    alt = np.asarray(altitude_m, dtype=np.float64)
+    finite (see bagmcp_shared.local_fixes)."""
     stamps = np.asarray(t_ns, dtype=np.int64)
-    fix_status = np.asarray(status, dtype=np.int64)
-    if not lat.shape == lon.shape == alt.shape == stamps.shape == fix_status.shape:
+    metres = local_metres(latitude_deg, longitude_deg, altitude_m, np.asarray(status, dtype=np.float64))
+    if stamps.shape != metres.kept.shape:
         raise ValueError("Fix stamps, latitude, longitude, altitude and status must have one value per message.")
-    valid = (fix_status >= 0) & np.isfinite(lat) & np.isfinite(lon) & (np.abs(lat) <= 90.0)
-    if not valid.any():
-        raise ValueError("No valid GPS fix (status >= 0 with finite latitude and longitude); pick another topic.")
-    lat, lon, alt, stamps = lat[valid], lon[valid], alt[valid], stamps[valid]
-    lat0, lon0 = math.radians(float(lat[0])), float(lon[0])
-    east_rad = np.radians((lon - lon0 + 180.0) % 360.0 - 180.0)
-    known_alt = alt[np.isfinite(alt)]
-    alt0 = float(known_alt[0]) if known_alt.size else 0.0
+    return track_of_fixes(stamps[metres.kept], metres)
+
+
+def track_of_fixes(stamps_ns: npt.NDArray[np.int64], metres: LocalMetres) -> Track:
+    """The track of valid fixes already in local metres, on ``stamps_ns`` (one per valid fix)."""
     return Track(
-        t_ns=stamps,
-        x=EARTH_RADIUS_M * east_rad * math.cos(lat0),
-        y=EARTH_RADIUS_M * (np.radians(lat) - lat0),
-        z=np.where(np.isfinite(alt), alt - alt0, np.nan),
-        yaw=np.full(stamps.shape, np.nan),
+        t_ns=stamps_ns,
+        x=metres.east_m,
+        y=metres.north_m,
+        z=metres.up_m,
+        yaw=np.full(stamps_ns.shape, np.nan),
     )
 
 

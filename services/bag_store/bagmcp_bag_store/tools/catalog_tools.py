@@ -26,22 +26,24 @@ class CatalogTools:
         offset: Offset = 0,
         limit: Annotated[int, Field(ge=1, le=500, description="page size")] = 50,
     ) -> Annotated[CallToolResult, BagList]:
-        """The bags with status, format, duration and counts. Call this first."""
+        """The bags in the store with status (ready, ingesting, or failed and why), format, duration and
+        counts. Call this first. Example: name="husky"."""
         return run_query(
             lambda: catalog_queries.list_bags(self._access.catalog, name=name, tag=tag, offset=offset, limit=limit),
             lambda r: f"{r.total} bags; showing {len(r.bags)} from {r.offset}",
         )
 
     def bag_info(self, bag: BagRef) -> Annotated[CallToolResult, BagInfo]:
-        """One bag's format, size, start/end, duration and every topic with type, count and rate."""
+        """One bag's format, size, start/end, duration and every topic with type, count and rate (odd rates
+        explained). Example: bag="run1"."""
         return run_query(
             lambda: catalog_queries.bag_info(self._access.catalog, bag),
             lambda r: f"{r.name}: {r.message_count} messages on {len(r.topics)} topics over {r.duration_s:.3f} s",
         )
 
     def describe_topic(self, bag: BagRef, topic: TopicName) -> Annotated[CallToolResult, TopicDescription]:
-        """A topic's field paths with types and units, plus its first message as a sample.
-        Use the paths in `fields` and plots, e.g. twist.twist.linear.x."""
+        """A topic's field paths with types and units, plus its first message as a sample; use the paths in
+        `fields` and plots. Example: topic="/odom"."""
         return run_query(
             lambda: catalog_queries.describe_topic(self._access, bag, topic, budget_bytes=self._budget),
             lambda r: f"{r.topic} ({r.type}): {r.count} messages, {len(r.fields)} fields",

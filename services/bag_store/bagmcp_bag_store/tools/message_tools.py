@@ -23,7 +23,8 @@ class MessageTools:
     def get_message_at_time(
         self, bag: BagRef, topic: TopicName, time: TimeArg, fields: Fields = None
     ) -> Annotated[CallToolResult, MessageAtTime]:
-        """The message of a topic nearest to a time (log time), and how far it is from that time."""
+        """The message of a topic nearest a time (log time), and how far it is from that time.
+        Example: topic="/odom", time=12.5."""
         return run_query(
             lambda: messages.get_message_at_time(self._access, bag, topic, time, fields, budget_bytes=self._budget),
             lambda r: f"{r.topic} at {r.message.time.offset_s:.3f} s ({r.delta_s:+.3f} s from the requested time)",
@@ -42,8 +43,8 @@ class MessageTools:
         layout: Literal["messages", "columns"] = "messages",
         max_points: Annotated[int, Field(ge=2, le=5000, description="columns: thin to this, keeping extremes")] = 1000,
     ) -> Annotated[CallToolResult, MessageRange]:
-        """Messages of a topic between start and end, oldest first, in pages (`next_cursor`). With
-        layout=columns and numeric `fields`: compact arrays {t, columns}, e.g. for a whole drive."""
+        """Messages of a topic in a window, oldest first, in pages (next_cursor); layout=columns gives
+        compact arrays of numeric `fields`. Example: topic="/odom", layout="columns"."""
         if layout == "columns":
             return run_query(
                 lambda: messages_as_columns(

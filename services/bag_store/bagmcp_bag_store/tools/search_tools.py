@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from typing import Annotated
+from typing import Annotated, Literal
 
 from mcp.server.mcpserver import Context
 from mcp.types import CallToolResult
@@ -18,6 +18,7 @@ from bagmcp_kit.jobs import LongAnswer
 from bagmcp_kit.longwork import LongWork
 from bagmcp_shared.access import BagAccess
 
+Format = Literal["ros1", "ros2-sqlite3", "ros2-mcap"]  # OutputFormat's values, inline in the schema
 ConditionValue = Annotated[
     JsonValue,
     Field(description="number, text, [low, high] (between) or {x, y, radius} in m (near_position)"),
@@ -83,7 +84,7 @@ class SearchTools:
         start: TimeArg | None = None,
         end: TimeArg | None = None,
         rates: Annotated[dict[str, float] | None, Field(description="max Hz per topic, e.g. {'/scan': 2}")] = None,
-        format: Annotated[str | None, Field(description="ros1, ros2-sqlite3 or ros2-mcap")] = None,
+        format: Annotated[Format | None, Field(description="default: the source's")] = None,
     ) -> Annotated[CallToolResult, LongAnswer[FilterResult]]:
         """Write a new bag with some topics, a time window and/or rate limits, and store it under `name`.
         The same request twice gives the same bag. Example: include_topics=["/cmd_vel", "/odom"]."""

@@ -7,6 +7,7 @@ renders can run concurrently in worker threads.
 from __future__ import annotations
 
 import io
+import textwrap
 
 from matplotlib.axes import Axes
 from matplotlib.backends.backend_agg import FigureCanvasAgg
@@ -17,6 +18,7 @@ WIDTH_IN = 10.0
 HEIGHT_IN = 6.0
 DPI = 100
 TITLE_SIZE = 15
+TITLE_CHARS = 100  # a longer title wraps onto more lines
 LABEL_SIZE = 13
 TICK_SIZE = 11
 LEGEND_SIZE = 11
@@ -40,7 +42,7 @@ def new_figure(*, title: str, width_in: float = WIDTH_IN, height_in: float = HEI
     """A constrained-layout figure with its own Agg canvas and the given title."""
     figure = Figure(figsize=(width_in, height_in), dpi=DPI, layout="constrained")
     FigureCanvasAgg(figure)
-    figure.suptitle(title, fontsize=TITLE_SIZE)
+    figure.suptitle(textwrap.fill(title, width=TITLE_CHARS), fontsize=TITLE_SIZE)
     return figure
 
 

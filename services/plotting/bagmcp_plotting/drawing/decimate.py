@@ -1,7 +1,8 @@
-"""Min/max decimation of long series so plots stay small but keep every spike.
+"""Decimation of long series so plots stay small but keep every spike and the whole extent.
 
 minmax_decimate splits the x range into equal-width columns and keeps, per column, the points with the
-smallest and the largest y, so the drawn envelope matches the full series.
+smallest and the largest y, so the drawn envelope matches the full series. extreme_indices thins paths
+and scans (points in order, several coordinates) keeping each run's extremes of every coordinate.
 """
 
 from __future__ import annotations
@@ -53,3 +54,29 @@ def _first_per_column(hit: npt.NDArray[np.bool_], column: npt.NDArray[np.intp]) 
     where = np.flatnonzero(hit)
     hit_column = column[where]
     return where[np.r_[True, hit_column[1:] != hit_column[:-1]]]
+
+
+def extreme_indices(*values: npt.NDArray[np.float64], max_points: int) -> npt.NDArray[np.intp]:
+    """Indices, in order, of at most about ``max_points`` of the points whose coordinates are ``values``.
+
+    The points are cut into runs of consecutive points; each run keeps its first point and the points with
+    the smallest and largest value of every array, so the extent (every minimum and maximum) survives and
+    the path keeps its shape. All indices when there are no more than ``max_points``."""
+    count = int(values[0].size) if values else 0
+    if max_points < 1:
+        raise ValueError(f"max_points must be at least 1, not {max_points}.")
+    if any(v.shape != (count,) for v in values):
+        raise ValueError("every coordinate array must be 1-D with one value per point.")
+    if count <= max_points:
+        return np.arange(count, dtype=np.intp)
+    runs = max(1, max_points // (1 + 2 * len(values)))
+    size = -(-count // runs)
+    starts = np.arange(0, count, size, dtype=np.intp)
+    kept = [starts, np.array([count - 1], dtype=np.intp)]
+    for array in values:
+        for fill, pick in ((np.inf, np.argmin), (-np.inf, np.argmax)):
+            padded = np.full(starts.size * size, fill, dtype=np.float64)
+            padded[:count] = array
+            kept.append(starts + pick(padded.reshape(starts.size, size), axis=1).astype(np.intp))
+    indices: npt.NDArray[np.intp] = np.unique(np.concatenate(kept))
+    return indices

@@ -1,7 +1,7 @@
 """The Line series type shared by the time-series and overlay renderers, and its summary.
 
 summary_of gives the (count, min, max) of a line's finite points; plot_points gives the finite,
-min/max-decimated points that are actually drawn.
+min/max-decimated points that are actually drawn, broken where the series has gaps.
 """
 
 from __future__ import annotations
@@ -15,6 +15,7 @@ from bagmcp_plotting.drawing.decimate import minmax_decimate
 
 DECIMATE_COLUMNS = 1500
 SCATTER_SAMPLE_POINTS = 3000
+GAP_PERIODS = 5.0  # a line breaks where no point came for this many median periods
 
 
 @dataclass(frozen=True, eq=False)
@@ -43,9 +44,16 @@ def finite_points(line: Line) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.f
 
 
 def plot_points(line: Line) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
-    """Finite points, min/max decimated to what a 1000-pixel-wide plot can show."""
+    """Finite points, min/max decimated to what a 1000-pixel-wide plot can show, with a NaN (a break in
+    the line) wherever the series has a gap, so a line never bridges missing data."""
     x, y = finite_points(line)
-    return minmax_decimate(x, y, columns=DECIMATE_COLUMNS)
+    drawn_x, drawn_y = minmax_decimate(x, y, columns=DECIMATE_COLUMNS)
+    if x.size < 3:
+        return drawn_x, drawn_y
+    column_s = float(x.max() - x.min()) / DECIMATE_COLUMNS
+    limit = max(GAP_PERIODS * float(np.median(np.abs(np.diff(x)))), 2 * column_s)
+    breaks = np.flatnonzero(np.diff(drawn_x) > limit) + 1
+    return np.insert(drawn_x, breaks, np.nan), np.insert(drawn_y, breaks, np.nan)
 
 
 def scatter_points(line: Line) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:

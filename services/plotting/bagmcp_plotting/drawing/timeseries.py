@@ -87,10 +87,23 @@ def _draw(axes: Axes, line: Line, *, style: Style, color: str) -> Artist:
 
 
 def _group_label(lines: Sequence[Line], group: list[int]) -> str:
-    names = ", ".join(lines[index].label for index in group)
+    """The names of the group's lines, or what they share (``linear.x``) when that would be too long."""
+    labels = [lines[index].label for index in group]
+    names = ", ".join(labels)
     if len(names) > 40:
-        names = "value"
+        names = _shared_field(labels) or "value"
     return axis_label(names, lines[group[0]].unit)
+
+
+def _shared_field(labels: list[str]) -> str:
+    """The trailing path steps every label ends with, e.g. ``linear.x``; "" when they share none."""
+    split = [label.split(".") for label in labels]
+    shared: list[str] = []
+    for steps in zip(*(reversed(s) for s in split), strict=False):
+        if len(set(steps)) > 1 or any("/" in step for step in steps):
+            break
+        shared.insert(0, steps[0])
+    return ".".join(shared)
 
 
 def _match_axis_colour(axes: Axes, color: str) -> None:

@@ -6,6 +6,7 @@ import numpy as np
 import numpy.typing as npt
 
 from bagmcp_plotting.drawing.canvas import LABEL_SIZE, LEGEND_SIZE, PALETTE, new_figure, style_axes, to_png
+from bagmcp_plotting.drawing.decimate import extreme_indices
 
 MAX_POINTS = 10_000
 TIME_LABEL = "time from bag start [s]"
@@ -39,7 +40,7 @@ def render_xy(
     x, y, t = x[keep], y[keep], t[keep]
     figure = new_figure(title=title)
     axes = figure.add_subplot()
-    shown = _thinned(x.size)
+    shown = extreme_indices(x, y, max_points=MAX_POINTS)
     axes.plot(x[shown], y[shown], color=PALETTE[0], linewidth=1.5, label="trajectory", zorder=2)
     if color_by_time and x.size:
         dots = axes.scatter(x[shown], y[shown], c=t[shown], cmap="viridis", s=10, linewidths=0, zorder=3)
@@ -55,12 +56,3 @@ def render_xy(
     style_axes(axes, x_label=x_label, y_label=y_label)
     figure.legend(loc="outside lower center", ncols=3, fontsize=LEGEND_SIZE)
     return to_png(figure)
-
-
-def _thinned(count: int) -> npt.NDArray[np.intp]:
-    """Every k-th index (always including the last) so at most about MAX_POINTS are drawn."""
-    stride = max(1, -(-count // MAX_POINTS))
-    indices = np.arange(0, count, stride, dtype=np.intp)
-    if count and indices[-1] != count - 1:
-        indices = np.append(indices, count - 1)
-    return indices

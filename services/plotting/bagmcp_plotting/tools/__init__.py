@@ -3,15 +3,20 @@
 from __future__ import annotations
 
 from mcp.server.mcpserver import MCPServer
+from mcp.server.mcpserver.exceptions import ResourceError
 
 from bagmcp_kit.arguments import READ_ONLY, ToolSpec, register
 from bagmcp_kit.longwork import LongWork
 from bagmcp_kit.server import new_server
-from bagmcp_plotting.artifacts import Artifacts
+from bagmcp_plotting.artifacts import ARTIFACT_URI, Artifacts
 from bagmcp_plotting.tools.plot_tools import PlotTools
 from bagmcp_shared.access import BagAccess
+from bagmcp_shared.errors import BagmcpError
 
-PURPOSE = "Plots of robot bags as images you can see: time series, XY and trajectories, lidar scans, histograms."
+PURPOSE = (
+    "Plots of robot bags as images you can see: time series, XY and trajectories, lidar scans, histograms, runs "
+    "compared. A plot that becomes a job is stored when it succeeds: call the same tool again to see it."
+)
 
 
 def build_server(
@@ -34,4 +39,18 @@ def build_server(
             ToolSpec(plots.compare_runs, READ_ONLY),
         ],
     )
+    _artifact_resource(server, artifacts)
     return server
+
+
+def _artifact_resource(server: MCPServer, artifacts: Artifacts) -> None:
+    """Stored plots as MCP resources (``bagmcp://artifacts/{id}``), for clients that read resources."""
+
+    @server.resource(
+        ARTIFACT_URI, name="plot", description="A stored plot (PNG) by its artifact id", mime_type="image/png"
+    )
+    def read_artifact(artifact: str) -> bytes:
+        try:
+            return artifacts.png(artifact)
+        except BagmcpError as err:
+            raise ResourceError(str(err)) from err

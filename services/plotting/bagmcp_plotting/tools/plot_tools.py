@@ -1,20 +1,24 @@
 """MCP adapters for the plots: the PNG inline as image content, a link to the stored artifact, and a
-summary of what was plotted (long reads become jobs on the plotting queue)."""
+summary of what was plotted (long reads become jobs on the plotting queue).
+
+A plot already stored answers at once with its image, so after a job has succeeded the same call again
+shows the picture; the answer that hands out the job says so."""
 
 from __future__ import annotations
 
 import base64
-from typing import Annotated, Literal
+from collections.abc import Callable
+from typing import Annotated, Any, Literal, TypeVar
 
 from mcp.server.mcpserver import Context
-from mcp.types import CallToolResult, ContentBlock, ImageContent, ResourceLink
-from pydantic import Field
+from mcp.types import CallToolResult, ContentBlock, ImageContent, ResourceLink, TextContent
+from pydantic import BaseModel, Field
 
 from bagmcp_kit.answers import tool_errors
 from bagmcp_kit.arguments import BagRef, TimeArg, params_of
 from bagmcp_kit.jobs import LongAnswer
 from bagmcp_kit.longwork import LongWork
-from bagmcp_plotting.artifacts import Artifacts
+from bagmcp_plotting.artifacts import ARTIFACT_URI, Artifacts
 from bagmcp_plotting.data import path_is_indexed
 from bagmcp_plotting.job_kinds import (
     COMPARE_RUNS,
@@ -28,10 +32,13 @@ from bagmcp_plotting.job_kinds import (
     TimeseriesParams,
     XYParams,
 )
+from bagmcp_plotting.plots import plot_id
 from bagmcp_plotting.reports import PlotReport
 from bagmcp_shared.access import BagAccess
+from bagmcp_shared.jobs import JobKind
 from bagmcp_shared.topics import choose_pose_topic
 
+P = TypeVar("P", bound=BaseModel)
 Path = Annotated[str, Field(description="message path, e.g. /odom.twist.twist.linear.x")]
 Answer = Annotated[CallToolResult, LongAnswer[PlotReport]]
 
@@ -39,6 +46,13 @@ Answer = Annotated[CallToolResult, LongAnswer[PlotReport]]
 def _summary(report: PlotReport) -> str:
     parts = ", ".join(f"{s.name} ({s.points} points, {s.min:.4g}..{s.max:.4g})" for s in report.series if s.points)
     return f"{report.title}: {parts or 'no finite points'}; image at {report.artifact.url}"
+
+
+def _how_to_see(tool: str) -> str:
+    return (
+        f"When get_job says succeeded, call {tool} again with the same arguments: the plot is stored, so it "
+        "answers at once with the image (get_job gives the report and the artifact's REST url)."
+    )
 
 
 class PlotTools:
@@ -50,13 +64,38 @@ class PlotTools:
     def _attach(self, report: PlotReport) -> list[ContentBlock]:
         png = self._artifacts.png(report.artifact.id)
         image = ImageContent(type="image", data=base64.b64encode(png).decode(), mime_type="image/png")
-        uri = report.artifact.url if "://" in report.artifact.url else f"bagmcp://artifacts/{report.artifact.id}"
+        uri = report.artifact.url if "://" in report.artifact.url else ARTIFACT_URI.format(artifact=report.artifact.id)
         link = ResourceLink(type="resource_link", uri=uri, name=f"{report.artifact.id}.png", mime_type="image/png")
         return [image, link]
 
     def _indexed(self, bag: str, paths: list[str]) -> bool:
         with self._access.open(bag) as ob:
             return all(path_is_indexed(ob, p) or ob.short(ob.topic_name(p.partition(".")[0])) for p in paths)
+
+    def _stored(self, kind: JobKind[Any, PlotReport], params: BaseModel, bags: list[str]) -> bool:
+        return self._artifacts.find(plot_id(self._access, kind, params, bags)) is not None
+
+    async def _plot(
+        self,
+        ctx: Context,
+        tool: str,
+        kind: JobKind[P, PlotReport],
+        params: P,
+        bags: list[str],
+        quick: Callable[[P], bool],
+    ) -> CallToolResult:
+        """Inline when the plot is stored or quick to make; otherwise a job, with how to see the image later."""
+        answer = await self._work.run(
+            ctx,
+            kind,
+            params,
+            _summary,
+            small=lambda p: self._stored(kind, p, bags) or quick(p),
+            attach=self._attach,
+        )
+        if answer.structured_content is not None and "job" in answer.structured_content:
+            answer.content.append(TextContent(type="text", text=_how_to_see(tool)))
+        return answer
 
     async def plot_timeseries(
         self,
@@ -72,8 +111,8 @@ class PlotTools:
         Example: paths=["/cmd_vel.linear.x", "/odom.twist.twist.linear.x"]."""
         with tool_errors():
             params = params_of(TimeseriesParams, bag=bag, paths=paths, start=start, end=end, style=style, title=title)
-        return await self._work.run(
-            ctx, PLOT_TIMESERIES, params, _summary, small=lambda p: self._indexed(p.bag, p.paths), attach=self._attach
+        return await self._plot(
+            ctx, "plot_timeseries", PLOT_TIMESERIES, params, [bag], lambda p: self._indexed(p.bag, p.paths)
         )
 
     async def plot_2d(
@@ -87,16 +126,14 @@ class PlotTools:
         end: TimeArg | None = None,
         color_by_time: bool = False,
     ) -> Answer:
-        """XY plot of two fields; without x and y, the trajectory of a pose topic (equal aspect, start and
-        end marked)."""
+        """XY plot of two fields; without x and y, the trajectory of a pose topic in metres (GPS: east/north),
+        equal aspect, start and end marked. Example: color_by_time=true."""
         with tool_errors():
             params = params_of(
                 XYParams, bag=bag, x=x, y=y, topic=topic, start=start, end=end, color_by_time=color_by_time
             )
-        small = (lambda p: self._indexed(p.bag, [p.x, p.y])) if x and y else None
-        return await self._work.run(
-            ctx, PLOT_2D, params, _summary, small=small or self._trajectory_small, attach=self._attach
-        )
+        quick = (lambda p: self._indexed(p.bag, [p.x, p.y])) if x and y else self._trajectory_small
+        return await self._plot(ctx, "plot_2d", PLOT_2D, params, [bag], quick)
 
     def _trajectory_small(self, params: XYParams) -> bool:
         with self._access.open(params.bag) as ob:
@@ -111,10 +148,11 @@ class PlotTools:
         topic: Annotated[str | None, Field(description="LaserScan topic (default: the obvious one)")] = None,
         within: Annotated[float | None, Field(gt=0, description="m: draw this circle")] = None,
     ) -> Answer:
-        """Polar plot of the scan nearest a time: robot at the centre, forward up, invalid ranges left out."""
+        """Polar plot of the scan nearest a time: robot at the centre, forward up, invalid ranges left out.
+        Example: time=12.5, within=0.5."""
         with tool_errors():
             params = params_of(ScanPlotParams, bag=bag, topic=topic, time=time, within_m=within)
-        return await self._work.run(ctx, PLOT_SCAN, params, _summary, small=lambda p: True, attach=self._attach)
+        return await self._plot(ctx, "plot_lidar_scan", PLOT_SCAN, params, [bag], lambda p: True)
 
     async def plot_histogram(
         self,
@@ -125,11 +163,12 @@ class PlotTools:
         end: TimeArg | None = None,
         bins: Annotated[int | None, Field(ge=2, le=500, description="default: automatic")] = None,
     ) -> Answer:
-        """Distribution of one message path, with count, mean and percentiles in the legend."""
+        """Distribution of one message path, with count, mean and percentiles in the legend.
+        Example: path="/cmd_vel.linear.x"."""
         with tool_errors():
             params = params_of(HistogramParams, bag=bag, path=path, start=start, end=end, bins=bins)
-        return await self._work.run(
-            ctx, PLOT_HISTOGRAM, params, _summary, small=lambda p: self._indexed(p.bag, [p.path]), attach=self._attach
+        return await self._plot(
+            ctx, "plot_histogram", PLOT_HISTOGRAM, params, [bag], lambda p: self._indexed(p.bag, [p.path])
         )
 
     async def compare_runs(
@@ -143,11 +182,6 @@ class PlotTools:
         Example: bags=["run1", "run2"], path="/odom.twist.twist.linear.x"."""
         with tool_errors():
             params = params_of(CompareParams, bags=bags, path=path, align=align)
-        return await self._work.run(
-            ctx,
-            COMPARE_RUNS,
-            params,
-            _summary,
-            small=lambda p: all(self._indexed(b, [p.path]) for b in p.bags),
-            attach=self._attach,
+        return await self._plot(
+            ctx, "compare_runs", COMPARE_RUNS, params, bags, lambda p: all(self._indexed(b, [p.path]) for b in p.bags)
         )

@@ -1,11 +1,11 @@
-"""Tests for bagmcp_plotting.decimate.minmax_decimate."""
+"""Tests for bagmcp_plotting.drawing.decimate: minmax_decimate (series) and extreme_indices (paths, scans)."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
 
-from bagmcp_plotting.drawing.decimate import minmax_decimate
+from bagmcp_plotting.drawing.decimate import extreme_indices, minmax_decimate
 
 
 def test_a_single_spike_in_a_million_points_survives() -> None:
@@ -73,3 +73,29 @@ def test_columns_below_one_are_rejected() -> None:
 def test_mismatched_lengths_are_rejected() -> None:
     with pytest.raises(ValueError, match="same length"):
         minmax_decimate(np.arange(5.0), np.arange(4.0))
+
+
+def test_a_thinned_path_keeps_its_whole_extent_and_both_ends() -> None:
+    t = np.linspace(0.0, 100.0, 200_001)
+    x, y = np.cos(t), np.sin(t)
+    x[54_321], y[150_003] = 40.0, -25.0  # single far points that a stride would skip
+    kept = extreme_indices(x, y, max_points=10_000)
+    assert kept.size <= 10_000 + 10
+    assert np.all(np.diff(kept) > 0)  # still in path order
+    assert (kept[0], kept[-1]) == (0, t.size - 1)
+    assert (x[kept].min(), x[kept].max(), y[kept].min(), y[kept].max()) == (x.min(), 40.0, -25.0, y.max())
+
+
+def test_a_thinned_scan_keeps_its_closest_and_farthest_returns() -> None:
+    ranges = np.full(60_001, 8.0)
+    ranges[31_337], ranges[7] = 0.42, 29.0
+    kept = extreme_indices(ranges, max_points=20_000)
+    assert kept.size <= 20_000 + 3
+    assert 31_337 in kept
+    assert 7 in kept
+
+
+def test_few_points_are_all_kept() -> None:
+    np.testing.assert_array_equal(extreme_indices(np.arange(5.0), max_points=5), np.arange(5))
+    with pytest.raises(ValueError, match="one value per point"):
+        extreme_indices(np.arange(5.0), np.arange(4.0), max_points=2)

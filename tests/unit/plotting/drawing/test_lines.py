@@ -39,3 +39,14 @@ def test_drawn_points_of_a_long_series_keep_the_extremes() -> None:
 def test_magnitude_is_the_largest_absolute_value_or_none_for_zero() -> None:
     assert magnitude_of(Line("a", None, np.arange(3.0), np.array([1.0, -7.0, 2.0]))) == 7.0
     assert magnitude_of(Line("b", None, np.arange(2.0), np.zeros(2))) is None
+
+
+def test_a_line_breaks_where_the_series_has_a_gap() -> None:
+    x = np.concatenate([np.arange(0.0, 20.0, 0.02), np.arange(22.0, 30.0, 0.02)])  # nothing from 20 to 22 s
+    px, py = plot_points(Line("imu", None, x, np.ones(x.size)))
+    breaks = np.flatnonzero(np.isnan(px))
+    assert breaks.size == 1
+    assert (px[breaks[0] - 1], px[breaks[0] + 1]) == pytest.approx((19.98, 22.0))
+    assert np.isnan(py[breaks[0]])
+    steady, _ = plot_points(Line("odom", None, np.arange(0.0, 30.0, 0.05), np.zeros(600)))
+    assert not np.isnan(steady).any()

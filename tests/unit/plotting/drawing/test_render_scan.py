@@ -6,15 +6,15 @@ import numpy as np
 import pytest
 
 from bagmcp_plotting.drawing.canvas import PALETTE
-from bagmcp_plotting.drawing.scan import INSIDE_COLOR, render_scan
+from bagmcp_plotting.drawing.scan import CLOSEST_COLOR, INSIDE_COLOR, MAX_POINTS, render_scan, scan_points
 from tests.fixtures.png_checks import MAX_PNG_BYTES, centroid, colour_mask, decode_png, distinct_colours
 
 
 def cluster_pixels(direction_rad: float) -> np.ndarray[tuple[int, ...], np.dtype[np.uint8]]:
-    """A scan whose only valid returns are a 5 m arc around one direction."""
+    """A scan whose only valid returns are an arc about 5 m away around one direction (closest at its middle)."""
     angles = np.linspace(-np.pi, np.pi, 720, endpoint=False)
     offset = np.angle(np.exp(1j * (angles - direction_rad)))
-    ranges = np.where(np.abs(offset) < 0.2, 5.0, np.inf)
+    ranges = np.where(np.abs(offset) < 0.2, 5.0 + 0.05 * np.abs(offset), np.inf)
     return decode_png(render_scan(angles_rad=angles, ranges_m=ranges, title="cluster", range_max_m=30.0))
 
 
@@ -74,3 +74,17 @@ def test_ranges_beyond_range_max_are_not_drawn() -> None:
 def test_invalid_range_max_is_refused() -> None:
     with pytest.raises(ValueError, match="range_max_m"):
         render_scan(angles_rad=np.zeros(1), ranges_m=np.ones(1), title="t", range_max_m=0.0)
+
+
+def test_the_one_close_return_of_a_dense_scan_is_drawn_counted_and_marked() -> None:
+    angles = np.linspace(-np.pi, np.pi, 60_000, endpoint=False)
+    ranges = np.full(angles.size, 8.0)
+    ranges[30_001] = 1.0  # one return, at an index a stride of 3 would skip
+    ranges[30_004] = 1.5  # inside the circle too, thinned away for drawing but counted
+    points = scan_points(angles, ranges, range_max_m=30.0, within_m=2.0)
+    assert points.range_m.size <= MAX_POINTS + 3
+    assert 1.0 in points.range_m
+    assert points.inside_count == 2
+    assert points.closest == pytest.approx((1.0, np.degrees(angles[30_001])))
+    png = render_scan(angles_rad=angles, ranges_m=ranges, title="dense", range_max_m=30.0, within_m=2.0)
+    assert colour_mask(decode_png(png), CLOSEST_COLOR).sum() > 50  # the diamond and its legend marker

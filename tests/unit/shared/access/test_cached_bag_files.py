@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import os
+import shutil
 import threading
 import time
 from pathlib import Path
@@ -92,3 +93,25 @@ def test_the_same_content_stored_again_under_another_file_name_is_fetched_again(
     path = cache.path_for(again)
     assert path.name == "renamed.bag"
     assert path.read_bytes() == bytes([4]) * 100
+
+
+def test_a_bag_asked_about_again_soon_is_served_without_touching_the_cache_again(tmp_path: Path) -> None:
+    store = LocalStore(tmp_path / "objects")
+    cache = CachedBagFiles(store, tmp_path / "cache", max_bytes=10_000, min_idle_s=60)
+    record = _record(store, "warm", 100)
+    first = cache.path_for(record)
+    marker = tmp_path / "cache" / "warm" / ".complete"
+    past = time.time() - 100
+    os.utime(marker, (past, past))
+    assert cache.path_for(record) == first
+    assert marker.stat().st_mtime == past  # no lock, no touch: checked a moment ago by this process
+
+
+def test_an_entry_removed_by_another_process_is_fetched_again_at_once(tmp_path: Path) -> None:
+    store = LocalStore(tmp_path / "objects")
+    cache = CachedBagFiles(store, tmp_path / "cache", max_bytes=10_000, min_idle_s=60)
+    record = _record(store, "gone-soon", 100)
+    path = cache.path_for(record)
+    shutil.rmtree(tmp_path / "cache" / "gone-soon")  # as another process's eviction would
+    assert cache.path_for(record) == path
+    assert path.read_bytes() == bytes([9]) * 100

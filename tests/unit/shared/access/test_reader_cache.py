@@ -8,6 +8,7 @@ import pytest
 
 from bagmcp_shared.access import ReaderCache
 from bagmcp_shared.access.readers import reader_bytes
+from bagmcp_shared.settings import OpenBagLimits
 from tests.fixtures.bagfactory import write_bag
 
 
@@ -39,7 +40,7 @@ def test_callers_at_the_same_time_get_readers_of_their_own_which_are_kept_for_la
 
 
 def test_the_least_recently_used_bag_is_closed_past_the_count_limit(bags: list[Path]) -> None:
-    cache = ReaderCache(max_bags=2)
+    cache = ReaderCache(OpenBagLimits(max_bags=2))
     for number, path in enumerate(bags):
         _count(cache, f"id{number}", path)
     assert len(cache) == 2
@@ -52,7 +53,7 @@ def test_the_least_recently_used_bag_is_closed_past_the_count_limit(bags: list[P
 def test_the_byte_limit_bounds_what_is_kept(bags: list[Path]) -> None:
     with ReaderCache().reader("x", bags[0]) as reader:
         one = reader_bytes(reader)
-    cache = ReaderCache(max_bytes=one + 1)
+    cache = ReaderCache(OpenBagLimits(max_bytes=one + 1))
     _count(cache, "id0", bags[0])
     _count(cache, "id1", bags[1])
     assert len(cache) == 1

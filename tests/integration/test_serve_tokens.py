@@ -1,0 +1,87 @@
+"""`bagmcp token create|list|revoke --data DIR` on an embedded server's data directory, while `bagmcp serve`
+runs: tokens made and revoked then count without a restart; the in-memory rate limit of `bagmcp serve`."""
+
+from __future__ import annotations
+
+import json
+from collections.abc import Iterator
+from pathlib import Path
+
+import anyio
+import httpx
+import pytest
+
+from tests.fixtures.mcp_client import http_client
+from tests.fixtures.processes import BIN, http_ok, service, wait_until
+from tests.fixtures.servers import free_port
+from tests.integration.stack import bagmcp
+
+pytestmark = pytest.mark.anyio
+ADMIN = "serve-admin-token"
+CACHE_S = 5  # the verifier remembers a lookup this long
+
+
+@pytest.fixture(scope="module")
+def served(tmp_path_factory: pytest.TempPathFactory) -> Iterator[tuple[str, Path]]:
+    """`bagmcp serve --token`, each token limited to a call every 2 s (3 at once); yields its URL and data dir."""
+    folder, data, logs = (tmp_path_factory.mktemp(n) for n in ("serve-bags", "serve-data", "serve-logs"))
+    port = free_port()
+    url = f"http://127.0.0.1:{port}"
+    command = [str(BIN / "bagmcp"), "serve", "--bags", str(folder), "--port", str(port), "--data", str(data)]
+    command += ["--token", ADMIN]
+    limits = {"BAGMCP_RATE_LIMIT_PER_S": "0.5", "BAGMCP_RATE_BURST": "3"}
+    with service("serve-tokens", command, env=limits, log_dir=logs, ready=http_ok(f"{url}/healthz")):
+        yield url, data
+
+
+def _status(url: str, token: str) -> int:
+    return httpx.get(f"{url}/api/v1/bags", headers={"Authorization": f"Bearer {token}"}, timeout=10).status_code
+
+
+def _create(data: Path, name: str, *options: str) -> str:
+    made = bagmcp("token", "create", name, *options, "--data", str(data), "--json")
+    assert made.returncode == 0, made.stderr
+    answer = json.loads(made.stdout)
+    assert answer["name"] == name
+    return str(answer["token"])
+
+
+async def test_tokens_made_and_revoked_locally_count_while_the_server_runs(served: tuple[str, Path]) -> None:
+    url, data = served
+    assert not (data / "tokens.json").exists()  # none at start: the server reads the file as it appears
+    alice = _create(data, "alice")
+    assert _status(url, alice) == 200
+    small = _create(data, "small", "--profile", "core", "--deny", "plot_*")
+    async with http_client(f"{url}/mcp", small) as client:
+        names = [t.name for t in (await client.list_tools()).tools]
+    assert "bag_info" in names
+    assert "get_job" in names
+    assert "plot_2d" not in names
+    assert "describe_topic" not in names  # not in the core profile
+    listed = bagmcp("token", "list", "--data", str(data), "--json")
+    assert listed.returncode == 0, listed.stderr
+    tokens = {t["name"]: t for t in json.loads(listed.stdout)}
+    assert sorted(tokens) == ["alice", "small"]
+    assert (tokens["small"]["profile"], tokens["small"]["deny"]) == ("core", ["plot_*"])
+    assert alice not in listed.stdout
+    revoked = bagmcp("token", "revoke", "alice", "--data", str(data))
+    assert (revoked.returncode, revoked.stdout.strip()) == (0, "token alice revoked")
+    wait_until(lambda: _status(url, alice) == 401, timeout_s=CACHE_S * 2, what="the revoked token to be refused")
+    assert _status(url, small) == 200
+    again = bagmcp("token", "revoke", "alice", "--data", str(data))
+    assert again.returncode == 1
+    assert "no token named 'alice'" in again.stderr
+
+
+async def test_serve_limits_each_token_s_call_rate_and_says_when_to_retry(served: tuple[str, Path]) -> None:
+    url, data = served
+    async with http_client(f"{url}/mcp", _create(data, "hasty")) as client:
+        answers = [await client.call_tool("list_bags", {"limit": 1}) for _ in range(4)]
+        assert [a.is_error for a in answers] == [False, False, False, True]
+        assert answers[3].structured_content is not None
+        wait = answers[3].structured_content["retryAfterSeconds"]
+        assert 0 < wait <= 2
+        async with http_client(f"{url}/mcp", ADMIN) as other:  # another token has its own bucket
+            assert not (await other.call_tool("list_bags", {"limit": 1})).is_error
+        await anyio.sleep(wait + 0.05)
+        assert not (await client.call_tool("list_bags", {"limit": 1})).is_error

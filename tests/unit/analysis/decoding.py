@@ -1,0 +1,26 @@
+"""The same bags without their columnar index, so every question is answered by decoding."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from bagmcp_shared.access import BagAccess, BagFiles
+from bagmcp_shared.catalog import BagRecord
+
+
+class WithoutIndex:
+    """The same bag files, but no columnar index."""
+
+    def __init__(self, files: BagFiles) -> None:
+        self._files = files
+
+    def path_for(self, record: BagRecord) -> Path:
+        return self._files.path_for(record)
+
+    def index_dir(self, record: BagRecord) -> Path | None:
+        return None
+
+
+def decoding(access: BagAccess) -> BagAccess:
+    """``access`` over the same catalog and files, never reading an index."""
+    return BagAccess(access.catalog, WithoutIndex(access.files))
