@@ -19,6 +19,8 @@ from bagmcp_shared.bags.sqlite3_source import Sqlite3Source
 from bagmcp_shared.errors import DamagedBagError, UnsupportedFormatError
 
 _STORAGE_SUFFIXES = {".db3": BagFormat.ROS2_SQLITE3, ".mcap": BagFormat.ROS2_MCAP}
+MAX_EXPANSION = 200  # a zstd-compressed storage file may grow this many times when decompressed
+EXPANSION_FLOOR_BYTES = 64 << 20
 
 
 def _natural_key(path: Path) -> tuple[str, int]:
@@ -150,9 +152,20 @@ def open_storage_file(path: Path, *, recover_truncated: bool) -> tuple[MessageSo
 
 
 def _decompress_file(path: Path, into: Path) -> Path:
+    """A zstd-compressed storage file decompressed into ``into``; one that expands more than
+    MAX_EXPANSION times (past a floor) is refused while it is written, as a decompression bomb."""
     target = into / path.name.removesuffix(".zstd")
-    with path.open("rb") as src, target.open("wb") as dst:
-        zstandard.ZstdDecompressor().copy_stream(src, dst)
+    limit = max(EXPANSION_FLOOR_BYTES, MAX_EXPANSION * path.stat().st_size)
+    written = 0
+    with path.open("rb") as src, target.open("wb") as dst, zstandard.ZstdDecompressor().stream_reader(src) as raw:
+        while chunk := raw.read(1 << 20):
+            written += len(chunk)
+            if written > limit:
+                raise UnsupportedFormatError(
+                    f"{path}: expands more than {MAX_EXPANSION} times when decompressed; refusing it as a "
+                    "decompression bomb"
+                )
+            dst.write(chunk)
     return target
 
 

@@ -7,9 +7,10 @@ import shutil
 from pathlib import Path
 
 import pytest
+import zstandard
 
-from bagmcp_shared.bags import open_bag
-from bagmcp_shared.errors import DamagedBagError
+from bagmcp_shared.bags import open_bag, ros2_dir
+from bagmcp_shared.errors import DamagedBagError, UnsupportedFormatError
 from tests.fixtures.compressed_bags import CompressedKind, write_compressed
 from tests.fixtures.damage import (
     corrupt_at,
@@ -75,3 +76,17 @@ def test_an_indexed_mcap_with_a_damaged_first_chunk_is_refused_on_opening(tmp_pa
     corrupt_mcap_chunk(path, 0)
     with pytest.raises(DamagedBagError, match="ZstdError"), open_bag(path) as bag:
         bag.summary()
+
+
+def test_a_compressed_storage_file_that_expands_like_a_bomb_is_refused_while_it_is_written(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.setattr(ros2_dir, "EXPANSION_FLOOR_BYTES", 1 << 20)
+    bag = write_compressed("sqlite3-zstd-file", tmp_path)
+    storage = _storage(bag)
+    with storage.open("wb") as out, zstandard.ZstdCompressor().stream_writer(out) as packed:
+        for _ in range(64):
+            packed.write(bytes(1 << 20))  # 64 MiB of zeros in a few kilobytes
+    assert storage.stat().st_size < 64 << 10
+    with pytest.raises(UnsupportedFormatError, match="expands more than 200 times when decompressed"):
+        open_bag(bag)
