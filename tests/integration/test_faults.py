@@ -29,7 +29,6 @@ from tests.fixtures.faults import (
     TOKEN,
     VISIBILITY_TIMEOUT_S,
     FaultStack,
-    Restartable,
     cut_upload,
     settle,
     start_fault_stack,
@@ -37,6 +36,7 @@ from tests.fixtures.faults import (
 from tests.fixtures.heavy_bags import write_odometry_bag
 from tests.fixtures.mcp_client import call, call_error, http_client
 from tests.fixtures.processes import BIN, wait_until
+from tests.fixtures.restartable import Restartable
 
 pytestmark = pytest.mark.anyio
 HEAVY_MESSAGES = 150_000  # about 8 s of ingest on a loaded 2-core machine

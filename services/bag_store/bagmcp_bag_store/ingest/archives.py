@@ -105,8 +105,15 @@ class _Budget:
         )
 
 
-def _target(dest: Path, name: PurePosixPath) -> Path:
-    target = dest.joinpath(*name.parts)
+def _kept(name: str, *, directory: bool, dest: Path, dropped: list[str]) -> Path | None:
+    """Where a member goes, or None: a directory (made as its files need it), or not part of a bag (noted)."""
+    pure = _safe_name(name)
+    if directory:
+        return None
+    if not _belongs_to_a_bag(pure):
+        dropped.append(f"{name} was left out: it is not part of a bag")
+        return None
+    target = dest.joinpath(*pure.parts)
     target.parent.mkdir(parents=True, exist_ok=True)
     return target
 
@@ -120,29 +127,19 @@ def _zip_members(path: Path, dest: Path, budget: _Budget, dropped: list[str]) ->
                 raise UploadError(f"the archive holds a symbolic link {member.filename!r}; refusing it")
             budget.declare(member.file_size)
         for member in members:
-            name = _safe_name(member.filename)
-            if member.is_dir():
-                continue
-            if not _belongs_to_a_bag(name):
-                dropped.append(f"{member.filename} was left out: it is not part of a bag")
-                continue
-            with archive.open(member) as source:
-                budget.write(source, _target(dest, name), compressed_bytes=member.compress_size)
+            if (target := _kept(member.filename, directory=member.is_dir(), dest=dest, dropped=dropped)) is not None:
+                with archive.open(member) as source:
+                    budget.write(source, target, compressed_bytes=member.compress_size)
 
 
 def _tar_members(path: Path, dest: Path, budget: _Budget, dropped: list[str]) -> None:
     with tarfile.open(path) as archive:
         for member in _tar_headers(archive, budget):  # headers are read one at a time
-            name = _safe_name(member.name)
-            if member.isdir():
-                continue
-            if not _belongs_to_a_bag(name):
-                dropped.append(f"{member.name} was left out: it is not part of a bag")
-                continue
-            source = archive.extractfile(member)
-            assert source is not None  # a regular file
-            with source:
-                budget.write(source, _target(dest, name), compressed_bytes=None)
+            if (target := _kept(member.name, directory=member.isdir(), dest=dest, dropped=dropped)) is not None:
+                source = archive.extractfile(member)
+                assert source is not None  # a regular file
+                with source:
+                    budget.write(source, target, compressed_bytes=None)
 
 
 def _tar_headers(archive: tarfile.TarFile, budget: _Budget) -> Iterator[tarfile.TarInfo]:
