@@ -10,6 +10,7 @@ import sys
 from collections.abc import Sequence
 from pathlib import Path
 
+from bagmcp_cli.catalog_commands import add_catalog_commands
 from bagmcp_cli.surface_commands import add_surface_commands
 from bagmcp_cli.token_commands import add_token_commands
 from bagmcp_shared.bags import open_bag
@@ -38,11 +39,9 @@ def _is_loopback(host: str) -> bool:
 
 
 def _serve(args: argparse.Namespace) -> int:
-    import uvicorn
-
     from bagmcp_cli.embedded import create_embedded_app
     from bagmcp_cli.settings import EmbeddedSettings
-    from bagmcp_shared.settings import LOOPBACK_HOSTS, HttpSettings
+    from bagmcp_kit.service_app import serve
 
     if not _is_loopback(args.host) and not args.token:
         print("bagmcp: error: --token is required when serving on a non-loopback address", file=sys.stderr)
@@ -52,10 +51,11 @@ def _serve(args: argparse.Namespace) -> int:
         print(f"bagmcp: error: {bags} is not a directory", file=sys.stderr)
         return 2
     url = f"http://{args.host}:{args.port}"
-    http = HttpSettings(host=args.host, port=args.port, allowed_hosts=(*LOOPBACK_HOSTS, f"{args.host}:*"))
-    app = create_embedded_app(EmbeddedSettings.from_env(bags, args.data), token=args.token, http=http, public_url=url)
-    print(f"bagmcp: serving {bags} at {url}/mcp", file=sys.stderr)
-    uvicorn.run(app, host=args.host, port=args.port, log_level="warning")
+    settings = EmbeddedSettings.from_env(bags, args.data)
+    http = settings.http(args.host, args.port, allowed_hosts=args.allowed_host)
+    app = create_embedded_app(settings, token=args.token, http=http, public_url=url)
+    print(f"bagmcp: serving {bags} at {url}/mcp (answering to {', '.join(http.allowed_hosts)})", file=sys.stderr)
+    serve(app, http, log_level="warning")
     return 0
 
 
@@ -111,6 +111,14 @@ def build_parser() -> argparse.ArgumentParser:
     serve.add_argument("--host", default="127.0.0.1")
     serve.add_argument("--port", type=int, default=8000)
     serve.add_argument("--token", help="require this bearer token (required off loopback)")
+    serve.add_argument(
+        "--allowed-host",
+        action="append",
+        default=[],
+        metavar="NAME[:PORT]",
+        help="a host name or address clients use to reach this server (repeatable; loopback names are always "
+        "allowed; also BAGMCP_ALLOWED_HOSTS)",
+    )
     serve.add_argument("--data", type=Path, default=None, help=DATA_HELP)
     serve.set_defaults(handler=_serve)
     stdio = commands.add_parser("stdio", help="serve a folder of bags over MCP stdio (Claude Desktop)")
@@ -128,6 +136,7 @@ def build_parser() -> argparse.ArgumentParser:
     up.set_defaults(handler=_upload)
     add_token_commands(commands)
     add_surface_commands(commands)
+    add_catalog_commands(commands)
     return parser
 
 
@@ -145,6 +154,10 @@ def main(argv: Sequence[str] | None = None) -> int:
         return 1
     except KeyboardInterrupt:
         return 130
+    except Exception as err:  # a bug, still one line for the user (the traceback is logged at debug level)
+        logging.getLogger("bagmcp").debug("unexpected failure", exc_info=True)
+        print(f"bagmcp: error: unexpected {type(err).__name__}: {err} (please report this)", file=sys.stderr)
+        return 1
     return code
 
 

@@ -3,12 +3,22 @@
 from __future__ import annotations
 
 import hashlib
+import ipaddress
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
 from bagmcp_gateway.ratelimit import Limit
 from bagmcp_gateway.settings import rate_limit_from_env
-from bagmcp_shared.settings import DEFAULT_OPEN_BAGS, Env, OpenBagLimits, default_data_dir
+from bagmcp_shared.settings import (
+    DEFAULT_OPEN_BAGS,
+    LOOPBACK_HOSTS,
+    Env,
+    HttpSettings,
+    OpenBagLimits,
+    default_data_dir,
+    host_patterns,
+)
 
 
 @dataclass(frozen=True)
@@ -18,6 +28,7 @@ class EmbeddedSettings:
     folder: Path
     data_dir: Path
     job_budget_s: float = 20.0
+    allowed_hosts: tuple[str, ...] = ()
     rate_limit: Limit | None = None
     open_bags: OpenBagLimits = DEFAULT_OPEN_BAGS
 
@@ -30,9 +41,24 @@ class EmbeddedSettings:
             folder=folder,
             data_dir=data_dir or default_data_dir(env) / folder_key(folder),
             job_budget_s=env.number("BAGMCP_JOB_BUDGET_S", 20.0),
+            allowed_hosts=env.items("BAGMCP_ALLOWED_HOSTS"),
             rate_limit=rate_limit_from_env(env, default_per_s=0.0),
             open_bags=OpenBagLimits.from_env(env),
         )
+
+    def http(self, host: str, port: int, *, allowed_hosts: Sequence[str] = ()) -> HttpSettings:
+        """Where ``bagmcp serve`` listens, answering to loopback names, the address it binds (unless that is
+        every address), BAGMCP_ALLOWED_HOSTS and ``allowed_hosts`` (``--allowed-host``)."""
+        bound = [] if _is_any_address(host) else [f"[{host}]" if ":" in host else host]
+        names = host_patterns([*bound, *self.allowed_hosts, *allowed_hosts])
+        return HttpSettings(host=host, port=port, allowed_hosts=tuple(dict.fromkeys([*LOOPBACK_HOSTS, *names])))
+
+
+def _is_any_address(host: str) -> bool:
+    try:
+        return ipaddress.ip_address(host).is_unspecified
+    except ValueError:
+        return False
 
 
 def folder_key(folder: Path) -> str:

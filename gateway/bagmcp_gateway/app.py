@@ -31,6 +31,7 @@ from bagmcp_gateway.upstreams import Upstream
 from bagmcp_kit.error_shape import UniformAuthErrors
 from bagmcp_kit.http_errors import StatusTable
 from bagmcp_kit.service_app import new_app
+from bagmcp_shared.redis_errors import answers
 from bagmcp_shared.resources import redis_client
 
 ADMIN_STATUSES: StatusTable = [(TokenNotFoundError, 404, "token_not_found")]
@@ -126,17 +127,28 @@ def create_app(
         routers.insert(0, build_admin_router(store, profiles=list(settings.policy.profiles), forget=verifier.forget))
     guard = rest_auth(verifier)
     app = new_app(
-        title="bagmcp gateway", lifespan=lifespan, routers=routers, guard=guard, statuses=[*ADMIN_STATUSES, *statuses]
+        title="bagmcp gateway",
+        lifespan=lifespan,
+        routers=routers,
+        guard=guard,
+        allowed_hosts=settings.http.allowed_hosts,
+        statuses=[*ADMIN_STATUSES, *statuses],
     )
+
+    shared_redis = redis_client(settings.redis_url) if settings.redis_url is not None else None
 
     @app.get("/readyz")
     def readyz() -> JSONResponse:
-        """Each upstream up or down (the reasons go to the gateway's log, not to unauthenticated callers)."""
+        """Each upstream, and Redis in team mode, up or down (the reasons go to the gateway's log, not to
+        unauthenticated callers)."""
         status = {name: "up" if state.up else "down" for name, state in catalog.states.items()}
         for name, up in status.items():
             gateway.metrics.upstream_up.labels(name).set(1 if up == "up" else 0)
-        ready = all(s == "up" for s in status.values()) and not catalog.conflicts
+        redis_up = shared_redis is None or answers(shared_redis)
+        ready = all(s == "up" for s in status.values()) and not catalog.conflicts and redis_up
         body = {"ready": ready, "upstreams": status, "tools": len(catalog.tools), "conflicts": len(catalog.conflicts)}
+        if shared_redis is not None:
+            body["redis"] = "up" if redis_up else "down"
         return JSONResponse(body, status_code=200 if ready else 503)
 
     @app.get("/metrics", dependencies=[Depends(guard)])

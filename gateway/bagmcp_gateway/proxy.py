@@ -22,6 +22,7 @@ _HOP_HEADERS = {
     "upgrade",
     "proxy-authorization",
     "content-length",
+    "origin",  # the gateway checked it; the service behind answers to the gateway, not to the browser
 }
 # The only paths the gateway forwards: a configured segment, then at most two plain segments that start
 # with a letter or digit and hold no '/'. Anything else (e.g. an encoded "../mcp") is refused, so the

@@ -3,6 +3,7 @@
 
 from __future__ import annotations
 
+import logging
 import math
 import threading
 import time
@@ -11,7 +12,10 @@ from typing import Protocol
 
 import redis
 
+from bagmcp_shared.errors import StorageError
 from bagmcp_shared.redis_errors import reachable
+
+log = logging.getLogger(__name__)
 
 # KEYS[1] the bucket; ARGV rate, burst. Returns {allowed (1/0), seconds to wait (string)}.
 _BUCKET = """
@@ -72,8 +76,15 @@ class RedisRateLimiter:
         self._script = client.register_script(_BUCKET)
 
     def take(self, who: str) -> float:
-        with reachable("the rate limiter"):
-            allowed, wait = self._script(keys=[f"bagmcp:rate:{who}"], args=[self._limit.rate_per_s, self._limit.burst])
+        """Fails open: while Redis is unreachable calls are not limited (the services say what is down)."""
+        try:
+            with reachable("the rate limiter"):
+                allowed, wait = self._script(
+                    keys=[f"bagmcp:rate:{who}"], args=[self._limit.rate_per_s, self._limit.burst]
+                )
+        except StorageError as err:
+            log.warning("not limiting calls: %s", err)
+            return 0.0
         return 0.0 if int(allowed) else max(float(wait), 0.001)
 
 

@@ -78,7 +78,14 @@ def install_error_handlers(app: FastAPI, statuses: StatusTable = ()) -> None:
         problems = "; ".join(f"{'.'.join(str(p) for p in e['loc'])}: {e['msg']}" for e in err.errors()[:5])
         return error_response(400, "bad_request", f"the request is not valid: {problems}")
 
+    async def unexpected(_request: Request, _err: Exception) -> Response:
+        """A bug: the caller gets the one shape and no traceback (Starlette raises the error again after
+        this answer, so the server logs the traceback)."""
+        message = "the server failed unexpectedly; the details are in its log (retry, or report it if it persists)"
+        return error_response(500, "internal_error", message)
+
     app.add_exception_handler(BagmcpError, project_error)
+    app.add_exception_handler(Exception, unexpected)
     app.add_exception_handler(HttpError, http_error)
     app.add_exception_handler(StarletteHTTPException, starlette_error)
     app.add_exception_handler(RequestValidationError, invalid_request)

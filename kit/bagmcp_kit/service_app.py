@@ -12,8 +12,10 @@ from fastapi import APIRouter, Depends, FastAPI, Request
 from mcp.server.mcpserver import MCPServer
 from mcp.server.transport_security import TransportSecuritySettings
 
+from bagmcp_kit.access_log import redact_access_log
 from bagmcp_kit.auth import rest_guard
 from bagmcp_kit.error_shape import UniformAuthErrors
+from bagmcp_kit.host_check import HostAllowList
 from bagmcp_kit.http_errors import StatusTable, install_error_handlers
 from bagmcp_shared.settings import HttpSettings
 
@@ -26,10 +28,13 @@ def new_app(
     lifespan: Callable[[FastAPI], AbstractAsyncContextManager[None]],
     routers: Sequence[APIRouter],
     guard: Guard,
+    allowed_hosts: Sequence[str],
     statuses: StatusTable = (),
 ) -> FastAPI:
-    """An app with the project's error shape, ``routers`` behind ``guard``, and /healthz."""
+    """An app with the project's error shape, ``routers`` behind ``guard``, /healthz, and every route
+    answering only to ``allowed_hosts`` (DNS-rebinding protection)."""
     app = FastAPI(title=title, lifespan=lifespan)
+    app.add_middleware(HostAllowList, allowed=allowed_hosts)
     install_error_handlers(app, statuses)
     for router in routers:
         app.include_router(router, dependencies=[Depends(guard)])
@@ -62,11 +67,19 @@ def create_service_app(
         if on_shutdown is not None:
             on_shutdown()
 
-    app = new_app(title=title, lifespan=lifespan, routers=routers, guard=rest_guard(service_token), statuses=statuses)
+    app = new_app(
+        title=title,
+        lifespan=lifespan,
+        routers=routers,
+        guard=rest_guard(service_token),
+        allowed_hosts=allowed_hosts,
+        statuses=statuses,
+    )
     app.mount("/", UniformAuthErrors(mcp_app))
     return app
 
 
 def serve(app: FastAPI, http: HttpSettings, *, log_level: str = "info") -> None:
-    """Run ``app`` where ``http`` says, until interrupted."""
+    """Run ``app`` where ``http`` says, until interrupted (access logs never show a secret sent in a query)."""
+    redact_access_log()
     uvicorn.run(app, host=http.host, port=http.port, log_level=log_level)

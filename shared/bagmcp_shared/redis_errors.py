@@ -17,3 +17,11 @@ def reachable(what: str) -> Iterator[None]:
         yield
     except redis.RedisError as err:
         raise StorageError(f"{what} (Redis) is unreachable: {err}") from err
+
+
+def answers(client: redis.Redis) -> bool:
+    """Redis answers a PING (for readiness checks)."""
+    try:
+        return bool(client.ping())
+    except redis.RedisError:
+        return False

@@ -8,6 +8,7 @@ hands each function only the pieces it needs.
 from __future__ import annotations
 
 import logging
+import tempfile
 import time
 from dataclasses import dataclass
 from pathlib import Path
@@ -18,6 +19,8 @@ from bagmcp_shared.access import BagAccess, BagFiles, CachedBagFiles, FolderBagF
 from bagmcp_shared.catalog import Catalog, MemoryCatalog, RedisCatalog
 from bagmcp_shared.errors import StorageError
 from bagmcp_shared.jobs import JobStore, MemoryJobStore, RedisJobStore
+from bagmcp_shared.redis_errors import answers
+from bagmcp_shared.scratch import use_scratch
 from bagmcp_shared.settings import DEFAULT_OPEN_BAGS, OpenBagLimits, S3Settings, TeamSettings
 from bagmcp_shared.storage import LocalStore, ObjectStore, S3Store
 from bagmcp_shared.tasks import CeleryRunner, Runner, ThreadRunner, create_celery
@@ -27,7 +30,8 @@ log = logging.getLogger(__name__)
 
 @dataclass(frozen=True)
 class Resources:
-    """``store`` is where new bags and artifacts go; ``uploads`` False refuses REST uploads."""
+    """``store`` is where new bags and artifacts go; ``uploads`` False refuses REST uploads; ``scratch`` is
+    this process's directory for temporary files."""
 
     catalog: Catalog
     files: BagFiles
@@ -36,6 +40,7 @@ class Resources:
     runner: Runner
     store: ObjectStore
     access: BagAccess
+    scratch: Path
     uploads: bool = True
     max_result_bytes: int = 16_000
     job_budget_s: float = 20.0
@@ -68,6 +73,7 @@ def embedded_resources(
         runner=runner,
         store=store,
         access=BagAccess(catalog, files, cache=ReaderCache(open_bags)),
+        scratch=Path(tempfile.gettempdir()),
         uploads=False,
         job_budget_s=job_budget_s,
     )
@@ -101,10 +107,23 @@ def redis_client(url: str) -> redis.Redis:
     return redis.Redis.from_url(url, socket_connect_timeout=3, socket_timeout=10, health_check_interval=30)
 
 
+def wait_for_redis(client: redis.Redis, *, wait_s: float = 60.0) -> None:
+    """Return once Redis answers; waits up to ``wait_s`` for a server that is still starting."""
+    deadline = time.monotonic() + wait_s
+    while not answers(client):
+        if time.monotonic() > deadline:
+            raise StorageError(f"Redis does not answer after {wait_s:.0f} s; is it running?")
+        log.warning("waiting for Redis")
+        time.sleep(1.0)
+
+
 def team_resources(settings: TeamSettings, *, queue: str) -> Resources:
-    """Team mode: S3 for bags, indexes and artifacts, Redis for the catalog and jobs, Celery for work."""
+    """Team mode: S3 for bags, indexes and artifacts, Redis for the catalog and jobs, Celery for work; this
+    process's temporary files in its scratch directory under the data directory."""
+    scratch = use_scratch(settings.scratch_dir)
     store = s3_store(settings.s3)
     client = redis_client(settings.redis_url)
+    wait_for_redis(client)
     files = CachedBagFiles(store, settings.cache_dir, max_bytes=settings.cache_max_bytes)
     catalog = RedisCatalog(client)
     app = create_celery(settings.redis_url, queue=queue, visibility_timeout_s=settings.task_visibility_timeout_s)
@@ -116,6 +135,7 @@ def team_resources(settings: TeamSettings, *, queue: str) -> Resources:
         runner=CeleryRunner(app),
         store=store,
         access=BagAccess(catalog, files, cache=ReaderCache(settings.open_bags)),
+        scratch=scratch,
         max_result_bytes=settings.max_result_bytes,
         job_budget_s=settings.job_budget_s,
     )

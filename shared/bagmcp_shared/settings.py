@@ -7,7 +7,7 @@ settings and pass the values down.
 from __future__ import annotations
 
 import os
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -89,6 +89,12 @@ class S3Settings:
         )
 
 
+def host_patterns(names: Sequence[str]) -> tuple[str, ...]:
+    """Allowed Host entries from what a user writes: ``name`` or ``[v6]`` means any port (``name:*``);
+    ``name:port`` and ``name:*`` stay as they are."""
+    return tuple(n if n.rsplit("]", 1)[-1].count(":") == 1 else f"{n}:*" for n in names if n)
+
+
 @dataclass(frozen=True)
 class HttpSettings:
     """Where a process listens and which Host headers it answers (DNS-rebinding protection)."""
@@ -102,7 +108,7 @@ class HttpSettings:
         return cls(
             host=env.text("BAGMCP_HOST", "127.0.0.1"),
             port=env.integer("BAGMCP_PORT", port),
-            allowed_hosts=env.items("BAGMCP_ALLOWED_HOSTS", (*LOOPBACK_HOSTS, *extra_hosts)),
+            allowed_hosts=host_patterns(env.items("BAGMCP_ALLOWED_HOSTS", (*LOOPBACK_HOSTS, *extra_hosts))),
         )
 
 
@@ -139,7 +145,7 @@ class TeamSettings:
     cache_max_bytes: int = 20 * 2**30
     max_result_bytes: int = 16_000
     job_budget_s: float = 20.0
-    task_visibility_timeout_s: int = 3600
+    task_visibility_timeout_s: int = 60  # a task of a worker that died goes to another after this long
     open_bags: OpenBagLimits = DEFAULT_OPEN_BAGS
 
     @classmethod
@@ -152,13 +158,17 @@ class TeamSettings:
             cache_max_bytes=env.integer("BAGMCP_CACHE_MAX_BYTES", 20 * 2**30),
             max_result_bytes=env.integer("BAGMCP_MAX_RESULT_BYTES", 16_000),
             job_budget_s=env.number("BAGMCP_JOB_BUDGET_S", 20.0),
-            task_visibility_timeout_s=env.integer("BAGMCP_TASK_VISIBILITY_TIMEOUT_S", 3600),
+            task_visibility_timeout_s=env.integer("BAGMCP_TASK_VISIBILITY_TIMEOUT_S", 60),
             open_bags=OpenBagLimits.from_env(env),
         )
 
     @property
     def cache_dir(self) -> Path:
         return self.data_dir / "cache"
+
+    @property
+    def scratch_dir(self) -> Path:
+        return self.data_dir / "scratch"
 
 
 @dataclass(frozen=True)

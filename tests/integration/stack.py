@@ -13,10 +13,11 @@ from pathlib import Path
 from typing import Any
 
 import anyio
+import httpx
 from minio import Minio
 
 from tests.fixtures.mcp_client import call, http_client
-from tests.fixtures.processes import BIN, http_ok, service
+from tests.fixtures.processes import BIN, http_ok, scratch_leftovers, service
 from tests.fixtures.servers import S3Endpoint, free_port, free_ports
 
 TOKEN = "test-client-token"
@@ -70,14 +71,29 @@ class Stack:
         os.killpg(proc.pid, signal.SIGKILL)
         proc.wait(timeout=10)
 
-    def upload(self, path: Path) -> subprocess.CompletedProcess[str]:
+    def upload(self, path: Path, *, name: str | None = None) -> subprocess.CompletedProcess[str]:
         command = [str(BIN / "bagmcp"), "upload", str(path), "--url", self.url, "--token", TOKEN, "--json"]
+        command += ["--name", name] if name else []
         return subprocess.run(command, capture_output=True, text=True, timeout=300, check=False)
 
-    def upload_ok(self, path: Path) -> dict[str, Any]:
-        result = self.upload(path)
+    def upload_ok(self, path: Path, *, name: str | None = None) -> dict[str, Any]:
+        result = self.upload(path, name=name)
         assert result.returncode == 0, result.stderr
         return json.loads(result.stdout)  # type: ignore[no-any-return]
+
+    def rest(self, method: str, path: str, **options: Any) -> httpx.Response:
+        """A REST call to the gateway with the test token (``path`` under /api/v1)."""
+        headers = {"Authorization": f"Bearer {TOKEN}", **options.pop("headers", {})}
+        return httpx.request(method, f"{self.url}/api/v1/{path}", headers=headers, timeout=120, **options)
+
+    def bags(self) -> dict[str, dict[str, Any]]:
+        """Every listed bag by name."""
+        listing = self.rest("GET", "bags", params={"limit": 500}).json()
+        return {b["name"]: b for b in listing["bags"]}
+
+    def upload_leftovers(self) -> list[str]:
+        """What the bag-store left in its scratch directory (upload bodies, unpacked archives, temp files)."""
+        return scratch_leftovers(self.bag_store_data)
 
     def objects(self) -> list[str]:
         client = Minio(self.s3.endpoint, access_key=self.s3.access_key, secret_key=self.s3.secret_key, secure=False)

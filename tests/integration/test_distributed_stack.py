@@ -4,7 +4,6 @@ as separate processes; bags uploaded with `bagmcp upload`; tools called through 
 from __future__ import annotations
 
 import tarfile
-import zipfile
 from collections.abc import Iterator
 from pathlib import Path
 
@@ -12,6 +11,7 @@ import httpx
 import pytest
 
 from tests.checks.first_tools import check_first_tools
+from tests.fixtures.archives import zip_directory
 from tests.fixtures.bagfactory import BagKind
 from tests.fixtures.mcp_client import http_client
 from tests.fixtures.processes import wait_until
@@ -119,10 +119,7 @@ def test_a_zipped_ros2_directory_uploads_through_the_gateway(
     tmp_path: Path,
 ) -> None:
     source = scenario_bags["ros2-sqlite3"]
-    archive = tmp_path / "zipped_db3.zip"
-    with zipfile.ZipFile(archive, "w") as zipped:
-        for member in source.iterdir():
-            zipped.write(member, f"{source.name}/{member.name}")
+    archive = zip_directory(source, tmp_path / "zipped_db3.zip")
     response = httpx.post(
         f"{stack.url}/api/v1/bags",
         params={"filename": archive.name},
@@ -171,8 +168,7 @@ def test_an_interrupted_upload_leaves_nothing_behind(
         )
     assert _names(stack) == names_before
     assert stack.objects() == before
-    uploads = stack.bag_store_data / "uploads"
-    wait_until(lambda: not any(uploads.iterdir()), timeout_s=10, what="upload temp files to be removed")
+    wait_until(lambda: not stack.upload_leftovers(), timeout_s=10, what="upload temp files to be removed")
 
 
 @pytest.mark.parametrize("path", ["..%2F..%2Fmcp", "..%2fmcp", "%2e%2e/%2e%2e/mcp", "bags/..%2F..%2Fmcp"])

@@ -3,8 +3,7 @@
 from __future__ import annotations
 
 import tarfile
-from collections.abc import Callable, Iterator
-from dataclasses import dataclass
+from collections.abc import Iterator
 from pathlib import Path
 from typing import Annotated
 
@@ -13,24 +12,11 @@ from fastapi import APIRouter, Query, Request
 from fastapi.responses import FileResponse, JSONResponse, Response, StreamingResponse
 
 from bagmcp_bag_store.errors import ReadOnlyError
-from bagmcp_bag_store.ingest.shelf import Shelf
-from bagmcp_bag_store.ingest.upload import receive, store_upload
+from bagmcp_bag_store.ingest.upload import UploadPolicy, receive, store_upload
 from bagmcp_bag_store.query import catalog_queries
 from bagmcp_bag_store.results import BagList
 from bagmcp_shared.access import BagAccess
 from bagmcp_shared.catalog import BagRecord, exact_bag, resolve_bag
-
-
-@dataclass(frozen=True)
-class UploadPolicy:
-    """``uploads`` False refuses uploads (an embedded server over a read-only folder: only the bags it
-    made itself can be deleted)."""
-
-    shelf: Shelf
-    queue_ingest: Callable[[str], None]
-    upload_dir: Path
-    max_upload_bytes: int
-    uploads: bool = True
 
 
 def _tar_stream(root: Path) -> Iterator[bytes]:
@@ -48,10 +34,9 @@ def _tar_stream(root: Path) -> Iterator[bytes]:
     yield b"\0" * (2 * tarfile.BLOCKSIZE)
 
 
-def _uploadable(policy: UploadPolicy) -> Shelf:
+def _check_uploads(policy: UploadPolicy) -> None:
     if not policy.uploads:
         raise ReadOnlyError("this server serves a read-only folder of bags; uploads are disabled")
-    return policy.shelf
 
 
 def build_router(access: BagAccess, policy: UploadPolicy) -> APIRouter:
@@ -61,22 +46,14 @@ def build_router(access: BagAccess, policy: UploadPolicy) -> APIRouter:
     async def upload(
         request: Request, filename: str, name: str | None = None, tags: Annotated[list[str] | None, Query()] = None
     ) -> JSONResponse:
-        shelf = _uploadable(policy)
-        received = await receive(request.stream(), policy.upload_dir, max_bytes=policy.max_upload_bytes)
-        record, created = await anyio.to_thread.run_sync(
-            lambda: store_upload(
-                shelf,
-                policy.queue_ingest,
-                received,
-                filename=filename,
-                name=name,
-                tags=tags or [],
-                staging_root=policy.upload_dir,
-                max_bytes=policy.max_upload_bytes,
-            )
+        _check_uploads(policy)
+        received = await receive(request.stream(), policy.upload_dir, max_bytes=policy.max_bytes)
+        stored = await anyio.to_thread.run_sync(
+            lambda: store_upload(policy, received, filename=filename, name=name, tags=tags or [])
         )
-        body = {"bag": record.model_dump(mode="json", exclude={"summary"}), "duplicate": not created}
-        return JSONResponse(body, status_code=201 if created else 200)
+        bag = stored.record.model_dump(mode="json", exclude={"summary"})
+        body = {"bag": bag, "duplicate": not stored.created, "notes": stored.notes}
+        return JSONResponse(body, status_code=201 if stored.created else 200)
 
     @router.get("/bags")
     def list_all(name: str | None = None, tag: str | None = None, offset: int = 0, limit: int = 50) -> BagList:

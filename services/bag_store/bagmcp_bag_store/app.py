@@ -5,20 +5,22 @@ from __future__ import annotations
 from fastapi import FastAPI
 
 from bagmcp_bag_store.errors import STATUSES
+from bagmcp_bag_store.ingest.rebuild import restore_lost_catalog
 from bagmcp_bag_store.job_kinds import QUEUE
 from bagmcp_bag_store.settings import BagStoreSettings
-from bagmcp_bag_store.wiring import build_bag_store
+from bagmcp_bag_store.wiring import build_bag_store, ingest_queue
 from bagmcp_kit.service_app import create_service_app
 from bagmcp_shared.resources import team_resources
 
 
 def create_app(settings: BagStoreSettings) -> FastAPI:
-    settings.upload_dir.mkdir(parents=True, exist_ok=True)
+    """The service over Redis and S3; a catalog lost with Redis's data is rebuilt from storage first."""
     service = settings.service
+    resources = team_resources(service.team, queue=QUEUE)
+    restore_lost_catalog(resources.catalog, resources.store, ingest_queue(resources))
     bag_store = build_bag_store(
-        team_resources(service.team, queue=QUEUE),
-        upload_dir=settings.upload_dir,
-        max_upload_bytes=settings.max_upload_bytes,
+        resources,
+        uploads=settings.uploads,
         service_token=service.team.service_token,
         public_url=service.public_url,
     )

@@ -4,12 +4,12 @@ catalogued at start-up and ingested on a thread pool; jobs on another pool."""
 from __future__ import annotations
 
 import logging
-import tempfile
-from pathlib import Path
 
 from bagmcp_bag_store.errors import STATUSES
-from bagmcp_bag_store.ingest.folder import FolderHashes, catalog_folder, catalog_stored
+from bagmcp_bag_store.ingest.folder import FolderHashes, catalog_folder
+from bagmcp_bag_store.ingest.rebuild import rebuild_catalog
 from bagmcp_bag_store.job_kinds import INGEST, RUN_JOB
+from bagmcp_bag_store.settings import UploadSettings
 from bagmcp_bag_store.wiring import BagStore, build_bag_store
 from bagmcp_kit.parts import ServicePart
 from bagmcp_shared.jobs import run_job
@@ -21,7 +21,7 @@ log = logging.getLogger(__name__)
 def start_embedded(embedded: Embedded) -> BagStore:
     """The bag-store over the embedded resources; starts cataloguing and ingesting the folder."""
     res = embedded.resources
-    bag_store = build_bag_store(res, upload_dir=Path(tempfile.gettempdir()), max_upload_bytes=0)
+    bag_store = build_bag_store(res, uploads=UploadSettings(max_bytes=0))
     work = bag_store.work
 
     hashes = FolderHashes(res.catalog, embedded.folder, embedded.data_dir / "content-ids.json")
@@ -37,7 +37,8 @@ def start_embedded(embedded: Embedded) -> BagStore:
     embedded.runner.bind(INGEST, ingest, workers=1)
     embedded.runner.bind(RUN_JOB, lambda job_id: run_job(work.registry, res.jobs, job_id), workers=2)
     ids = catalog_folder(res.catalog, embedded.folder)
-    for bag_id in [*ids, *catalog_stored(res.catalog, res.store)]:
+    made_here = rebuild_catalog(res.catalog, res.store, summaries=False).to_ingest  # the bags filter_bag made
+    for bag_id in [*ids, *made_here]:
         res.runner.submit(INGEST, bag_id)
     return bag_store
 

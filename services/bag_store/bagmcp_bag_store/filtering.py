@@ -43,6 +43,15 @@ def _default_name(source: str, params: FilterParams) -> str:
     return f"{source}-filtered-{digest}"
 
 
+def _name_note(asked: str | None, existing: str) -> str | None:
+    """Said when the same filtered content existed already under another name than the one asked for."""
+    if asked is None or sanitize_name(asked) == existing:
+        return None
+    return (
+        f"the same bag existed already as {existing!r}, so the name {asked!r} was not used; refer to it as {existing!r}"
+    )
+
+
 def filter_bag(
     access: BagAccess, shelf: Shelf, ingestor: Ingestor, params: FilterParams, progress: Progress
 ) -> FilterResult:
@@ -75,6 +84,7 @@ def filter_bag(
         progress(0.95, "indexing the new bag")
         ingestor.ingest(record.id)
     return FilterResult(
+        note=_name_note(params.name, record.name),
         bag_id=record.id,
         name=record.name,
         format=fmt.value,

@@ -163,3 +163,4 @@ class FilterResult(BaseModel):
     counts: dict[str, int] = Field(description="messages per topic")
     message_count: int
     created: bool = Field(description="false when the same bag existed already")
+    note: str | None = Field(default=None, description="why the bag has another name than the one asked for")

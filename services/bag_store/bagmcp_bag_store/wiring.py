@@ -2,18 +2,20 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
-from pathlib import Path
 
 from fastapi import APIRouter
 from mcp.server.mcpserver import MCPServer
 
-from bagmcp_bag_store.api import UploadPolicy, build_router
+from bagmcp_bag_store.api import build_router
 from bagmcp_bag_store.filtering import filter_bag
 from bagmcp_bag_store.ingest.ingest import Ingestor
 from bagmcp_bag_store.ingest.shelf import Shelf
+from bagmcp_bag_store.ingest.upload import UploadPolicy
 from bagmcp_bag_store.job_kinds import FILTER, INGEST, SEARCH
 from bagmcp_bag_store.query.search import search_messages
+from bagmcp_bag_store.settings import UploadSettings
 from bagmcp_bag_store.tools import build_server
 from bagmcp_kit.longwork import LongWork
 from bagmcp_shared.jobs import JobRegistry
@@ -40,6 +42,11 @@ def build_work(res: Resources) -> BagStoreWork:
     return BagStoreWork(shelf, ingestor, registry)
 
 
+def ingest_queue(res: Resources) -> Callable[[str], None]:
+    """Queue a bag's ingest where this way of running does it (a Celery worker, or a thread)."""
+    return lambda bag_id: res.runner.submit(INGEST, bag_id)
+
+
 @dataclass(frozen=True)
 class BagStore:
     work: BagStoreWork
@@ -50,8 +57,7 @@ class BagStore:
 def build_bag_store(
     res: Resources,
     *,
-    upload_dir: Path,
-    max_upload_bytes: int,
+    uploads: UploadSettings,
     service_token: str | None = None,
     public_url: str = "http://127.0.0.1:8001",
 ) -> BagStore:
@@ -62,9 +68,11 @@ def build_bag_store(
     )
     policy = UploadPolicy(
         shelf=work.shelf,
-        queue_ingest=lambda bag_id: res.runner.submit(INGEST, bag_id),
-        upload_dir=upload_dir,
-        max_upload_bytes=max_upload_bytes,
+        queue_ingest=ingest_queue(res),
+        upload_dir=res.scratch,
+        max_bytes=uploads.max_bytes,
+        archive_expansion=uploads.archive_expansion,
+        stuck_after_s=uploads.stuck_after_s,
         uploads=res.uploads,
     )
     return BagStore(work, server, build_router(res.access, policy))

@@ -16,6 +16,7 @@ from typing import Protocol
 from bagmcp_shared import keys
 from bagmcp_shared.catalog.models import BagRecord
 from bagmcp_shared.errors import StorageError
+from bagmcp_shared.scratch import own_scratch
 from bagmcp_shared.storage import LocalStore, ObjectStore
 
 _COMPLETE = ".complete"
@@ -94,6 +95,7 @@ class CachedBagFiles:
         self._locks: dict[str, threading.Lock] = {}
         self._checked: dict[tuple[str, tuple[str, ...]], float] = {}  # entry -> when last checked (monotonic)
         cache_dir.mkdir(parents=True, exist_ok=True)
+        self._partials = own_scratch(cache_dir / ".partial")  # on the cache's file system, for the rename
 
     @contextmanager
     def _locked(self, name: str) -> Iterator[None]:
@@ -146,7 +148,7 @@ class CachedBagFiles:
     def _fetch_objects(self, wanted: list[str], root: Path) -> None:
         """Download the objects ``wanted`` into ``root`` (named by their last part), all or nothing; the
         completion marker is written last, after the rename."""
-        partial = self._dir / f".partial-{root.name}-{os.getpid()}-{threading.get_ident()}"
+        partial = self._partials / f"{root.name}-{threading.get_ident()}"
         shutil.rmtree(partial, ignore_errors=True)
         partial.mkdir(parents=True)
         try:

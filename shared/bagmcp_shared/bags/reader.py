@@ -2,9 +2,11 @@
 
 from __future__ import annotations
 
+import logging
 import os
+import tempfile
 from collections.abc import Iterable, Iterator, Sequence
-from contextlib import ExitStack
+from contextlib import ExitStack, contextmanager
 from pathlib import Path
 from types import TracebackType
 from typing import Self
@@ -16,7 +18,46 @@ from bagmcp_shared.bags.models import BagFormat, BagSummary, Compression, Connec
 from bagmcp_shared.bags.ros1_source import Ros1Source
 from bagmcp_shared.bags.ros2_dir import open_directory, open_storage_file
 from bagmcp_shared.bags.source import MessageSource
-from bagmcp_shared.errors import BagError, TopicNotFoundError
+from bagmcp_shared.errors import BagError, BagmcpError, DamagedBagError, TopicNotFoundError
+
+log = logging.getLogger(__name__)
+MESSAGE_CHARS = 600
+
+
+@contextmanager
+def damage_named(path: Path, *, workspace: Path | None = None) -> Iterator[None]:
+    """Any failure of a storage library while reading ``path`` (a zstd, lz4 or bz2 stream that does not
+    decompress, a record that does not parse, an index that points nowhere) becomes a DamagedBagError
+    naming the file; the bag layer's own errors pass through, with files decompressed into ``workspace``
+    named as the bag's own."""
+    try:
+        yield
+    except BagError as err:
+        shown = _one_line(str(err).replace(str(workspace), str(path)) if workspace is not None else str(err))
+        if shown == str(err):
+            raise
+        raise type(err)(shown) from err
+    except BagmcpError:
+        raise
+    except Exception as err:
+        if isinstance(err, OSError) and err.errno is not None:  # the file system, not the data
+            raise BagError(f"{path}: cannot be read ({err.strerror})") from err
+        log.debug("reading %s failed", path, exc_info=True)
+        detail = _one_line(f"{type(err).__name__}: {err}" if str(err) else type(err).__name__)
+        raise DamagedBagError(
+            f"{path}: the recording is damaged and cannot be read ({detail}); use an intact copy"
+        ) from err
+
+
+def _one_line(message: str, *, limit: int = MESSAGE_CHARS) -> str:
+    """An error message in one line of at most ``limit`` characters (libraries quote whole records)."""
+    flat = " ".join(message.split())
+    return flat if len(flat) <= limit else f"{flat[: limit - 1]}…"
+
+
+def _guarded(path: Path, workspace: Path | None, messages: Iterator[RawMessage]) -> Iterator[RawMessage]:
+    with damage_named(path, workspace=workspace):
+        yield from messages
 
 
 def _size(path: Path, files: Sequence[Path]) -> int:
@@ -27,9 +68,17 @@ class BagReader:
     """An open bag: summary, raw messages by topic and time window, decoding."""
 
     def __init__(
-        self, path: Path, source: MessageSource, fmt: BagFormat, files: Sequence[Path], stack: ExitStack
+        self,
+        path: Path,
+        source: MessageSource,
+        fmt: BagFormat,
+        files: Sequence[Path],
+        stack: ExitStack,
+        *,
+        workspace: Path | None = None,
     ) -> None:
         self.path = path
+        self._workspace = workspace
         self.format = fmt
         self.files = tuple(files)
         self._source = source
@@ -55,7 +104,8 @@ class BagReader:
     def summary(self) -> BagSummary:
         """Topics with types, counts and first/last log times; computed once."""
         if self._summary is None:
-            self._summary = self._summarize()
+            with damage_named(self.path, workspace=self._workspace):
+                self._summary = self._summarize()
         return self._summary
 
     def _summarize(self) -> BagSummary:
@@ -105,7 +155,7 @@ class BagReader:
             ids = [c.id for c in self._source.connections]
         else:
             ids = [c.id for t in topics for c in self.topic_connections(t)]
-        return self._source.messages(ids, start_ns=start_ns, stop_ns=stop_ns)
+        return _guarded(self.path, self._workspace, self._source.messages(ids, start_ns=start_ns, stop_ns=stop_ns))
 
     def decode(self, raw: RawMessage) -> object:
         return self.decoder.decode(raw)
@@ -123,10 +173,10 @@ class BagReader:
 
 
 def _open_source(
-    path: Path, stack: ExitStack, *, recover_truncated: bool
+    path: Path, stack: ExitStack, *, recover_truncated: bool, workspace: Path | None
 ) -> tuple[MessageSource, BagFormat, list[Path]]:
-    if path.is_dir():
-        return open_directory(path, stack, recover_truncated=recover_truncated)
+    if workspace is not None:  # a directory
+        return open_directory(path, stack, recover_truncated=recover_truncated, decompress_into=workspace)
     kind = sniff_file(path)
     source: MessageSource
     if kind is BagFormat.ROS1:
@@ -149,12 +199,13 @@ def open_bag(path: str | os.PathLike[str], *, recover_truncated: bool = False) -
     if not bag_path.exists():
         raise BagError(f"{bag_path}: no such file or directory")
     stack = ExitStack()
+    workspace = (
+        Path(stack.enter_context(tempfile.TemporaryDirectory(prefix="bagmcp-bag-"))) if bag_path.is_dir() else None
+    )
     try:
-        source, fmt, files = _open_source(bag_path, stack, recover_truncated=recover_truncated)
+        with damage_named(bag_path, workspace=workspace):
+            source, fmt, files = _open_source(bag_path, stack, recover_truncated=recover_truncated, workspace=workspace)
     except BagError:
         stack.close()
         raise
-    except (OSError, MemoryError, RecursionError) as err:
-        stack.close()
-        raise BagError(f"{bag_path}: cannot be read ({err})") from err
-    return BagReader(bag_path, source, fmt, files, stack)
+    return BagReader(bag_path, source, fmt, files, stack, workspace=workspace)

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import re
-import tempfile
 from collections.abc import Collection, Iterator, Sequence
 from contextlib import ExitStack
 from pathlib import Path
@@ -20,11 +19,20 @@ from bagmcp_shared.bags.sqlite3_source import Sqlite3Source
 from bagmcp_shared.errors import DamagedBagError, UnsupportedFormatError
 
 _STORAGE_SUFFIXES = {".db3": BagFormat.ROS2_SQLITE3, ".mcap": BagFormat.ROS2_MCAP}
+MAX_EXPANSION = 200  # a zstd-compressed storage file may grow this many times when decompressed
+EXPANSION_FLOOR_BYTES = 64 << 20
 
 
 def _natural_key(path: Path) -> tuple[str, int]:
     match = re.search(r"(\d+)$", path.name.split(".")[0])
     return (path.name[: match.start()] if match else path.name, int(match.group(1)) if match else -1)
+
+
+def _one_line(err: Exception) -> str:
+    """A parser's error in one line (YAML errors quote the offending text over several)."""
+    if isinstance(err, yaml.MarkedYAMLError) and err.problem_mark is not None:
+        return f"{err.problem} at line {err.problem_mark.line + 1}, column {err.problem_mark.column + 1}"
+    return " ".join(str(err).split())
 
 
 def _read_metadata(directory: Path) -> dict[str, object] | None:
@@ -35,7 +43,7 @@ def _read_metadata(directory: Path) -> dict[str, object] | None:
         data = yaml.safe_load(path.read_text(encoding="utf-8"))
         info = data["rosbag2_bagfile_information"]
     except (yaml.YAMLError, KeyError, TypeError, UnicodeDecodeError) as err:
-        raise DamagedBagError(f"{path}: metadata.yaml is not valid rosbag2 metadata ({err})") from err
+        raise DamagedBagError(f"{path}: metadata.yaml is not valid rosbag2 metadata ({_one_line(err)})") from err
     if not isinstance(info, dict):
         raise DamagedBagError(f"{path}: metadata.yaml is not valid rosbag2 metadata")
     return cast(dict[str, object], info)
@@ -144,21 +152,32 @@ def open_storage_file(path: Path, *, recover_truncated: bool) -> tuple[MessageSo
 
 
 def _decompress_file(path: Path, into: Path) -> Path:
+    """A zstd-compressed storage file decompressed into ``into``; one that expands more than
+    MAX_EXPANSION times (past a floor) is refused while it is written, as a decompression bomb."""
     target = into / path.name.removesuffix(".zstd")
-    with path.open("rb") as src, target.open("wb") as dst:
-        zstandard.ZstdDecompressor().copy_stream(src, dst)
+    limit = max(EXPANSION_FLOOR_BYTES, MAX_EXPANSION * path.stat().st_size)
+    written = 0
+    with path.open("rb") as src, target.open("wb") as dst, zstandard.ZstdDecompressor().stream_reader(src) as raw:
+        while chunk := raw.read(1 << 20):
+            written += len(chunk)
+            if written > limit:
+                raise UnsupportedFormatError(
+                    f"{path}: expands more than {MAX_EXPANSION} times when decompressed; refusing it as a "
+                    "decompression bomb"
+                )
+            dst.write(chunk)
     return target
 
 
 def open_directory(
-    directory: Path, stack: ExitStack, *, recover_truncated: bool
+    directory: Path, stack: ExitStack, *, recover_truncated: bool, decompress_into: Path
 ) -> tuple[MessageSource, BagFormat, list[Path]]:
-    """All storage files of a ROS 2 bag directory as one source."""
+    """All storage files of a ROS 2 bag directory as one source (zstd-compressed files are decompressed into
+    ``decompress_into`` first)."""
     files, mode, info = storage_files(directory)
     paths = files
     if mode == "file":
-        tmp = Path(stack.enter_context(tempfile.TemporaryDirectory(prefix="bagmcp-zstd-")))
-        paths = [_decompress_file(f, tmp) for f in files]
+        paths = [_decompress_file(f, decompress_into) for f in files]
     sources: list[MessageSource] = []
     kinds: set[BagFormat] = set()
     for path in paths:

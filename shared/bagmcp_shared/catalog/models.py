@@ -92,6 +92,7 @@ class BagRecord(BaseModel):
     error: str | None = None
     progress: float | None = None
     created_at: float
+    ingest_queued_at: float | None = None  # when its ingest was last queued again (created_at before that)
     tags: list[str] = Field(default_factory=list)
     summary: CatalogSummary | None = None
     index_files: list[str] = Field(default_factory=list)

@@ -26,6 +26,25 @@ def test_an_explicit_data_directory_is_used_as_given(tmp_path: Path) -> None:
     assert chosen.data_dir == tmp_path / "mine"
 
 
+def test_serving_every_address_answers_to_the_names_given_and_never_to_0_0_0_0(tmp_path: Path) -> None:
+    settings = EmbeddedSettings.from_env(tmp_path, None, Env({"BAGMCP_ALLOWED_HOSTS": "bags.lab,10.0.0.5:8000"}))
+    http = settings.http("0.0.0.0", 8000, allowed_hosts=["robot-pc"])
+    assert http.allowed_hosts == (
+        "127.0.0.1:*",
+        "localhost:*",
+        "[::1]:*",
+        "bags.lab:*",
+        "10.0.0.5:8000",
+        "robot-pc:*",
+    )
+
+
+def test_serving_one_address_answers_to_it(tmp_path: Path) -> None:
+    settings = EmbeddedSettings.from_env(tmp_path, None, Env({}))
+    assert "192.168.1.20:*" in settings.http("192.168.1.20", 8000).allowed_hosts
+    assert "[fd00::5]:*" in settings.http("fd00::5", 8000).allowed_hosts
+
+
 def test_serve_has_no_rate_limit_unless_one_is_set(tmp_path: Path) -> None:
     assert EmbeddedSettings.from_env(tmp_path, None, Env({})).rate_limit is None
     limited = EmbeddedSettings.from_env(tmp_path, None, Env({"BAGMCP_RATE_LIMIT_PER_S": "5", "BAGMCP_RATE_BURST": "9"}))

@@ -12,6 +12,9 @@ from pathlib import Path
 
 import yaml
 
+from bagmcp_cli.stack.environment import DEFAULT_PORTS, SECRETS, derived
+from bagmcp_shared.settings import Env
+
 ROOT = Path(__file__).resolve().parents[3]
 COMPOSE = yaml.safe_load((ROOT / "docker-compose.yml").read_text())
 PROCFILE = dict(
@@ -54,10 +57,11 @@ def test_every_service_the_apps_wait_for_has_a_health_check() -> None:
                 assert "healthcheck" in services[dependency], dependency
 
 
-def test_the_stack_gives_each_app_the_settings_compose_gives_it() -> None:
-    run_script = (ROOT / "deploy/stack/run.sh").read_text()
+def test_the_stack_gives_each_app_the_settings_compose_gives_it(tmp_path: Path) -> None:
+    ports = {name: 20000 + i * 20 for i, name in enumerate(DEFAULT_PORTS)}
+    settings = derived(tmp_path, ports, dict.fromkeys(SECRETS, "s3cr3t"), Env({}))
     for name in APPS:
         environment = COMPOSE["services"][name].get("environment") or {}
         for key in environment:
             if key.startswith("BAGMCP_") and key not in ("BAGMCP_PUBLIC_URL", "BAGMCP_ALLOWED_HOSTS"):
-                assert key in run_script or key in PROCFILE[name], f"{name}: {key}"
+                assert key in settings or key in PROCFILE[name], f"{name}: {key}"

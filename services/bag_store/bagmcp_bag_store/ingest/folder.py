@@ -10,12 +10,10 @@ from pathlib import Path
 
 from bagmcp_bag_store.ingest.content import content_id, quick_content_id
 from bagmcp_bag_store.ingest.upload import sanitize_name
-from bagmcp_shared import keys
 from bagmcp_shared.bags.detect import sniff_file
 from bagmcp_shared.bags.ros2_dir import storage_files
 from bagmcp_shared.catalog import BagRecord, Catalog
 from bagmcp_shared.errors import BagError, BagmcpError, NameTakenError
-from bagmcp_shared.storage import ObjectStore
 
 log = logging.getLogger(__name__)
 _RECORDING_SUFFIXES = (".bag", ".mcap", ".db3", ".ulg", ".ulog")  # recordings, read or refused with a reason
@@ -135,19 +133,3 @@ class FolderHashes:
         current = self._catalog.get(bag_id)
         if current is not None:
             self._catalog.replace(current.model_copy(update={"sha256": sha}))
-
-
-def catalog_stored(catalog: Catalog, store: ObjectStore) -> list[str]:
-    """List again the bags an embedded server made earlier (filter_bag) from their registrations."""
-    ids: list[str] = []
-    for info in store.list(keys.REGISTRATIONS):
-        try:
-            with store.open_read(info.key) as stream:
-                record = BagRecord.model_validate_json(stream.read())
-            catalog.claim_name(record.name, record.id)
-        except (BagmcpError, ValueError) as err:
-            log.warning("not listing %s again: %s", info.key, err)
-            continue
-        if catalog.add(record.model_copy(update={"status": "ingesting", "summary": None})):
-            ids.append(record.id)
-    return ids

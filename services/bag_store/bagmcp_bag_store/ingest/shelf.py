@@ -54,6 +54,14 @@ class Shelf:
             raise
         return record, True
 
+    def requeued(self, record: BagRecord) -> BagRecord:
+        """The bag marked for another ingest (its ingest failed, or its worker died): the caller queues it."""
+        again = record.model_copy(
+            update={"status": "ingesting", "error": None, "progress": None, "ingest_queued_at": time.time()}
+        )
+        self._catalog.replace(again)
+        return again
+
     def remove(self, record: BagRecord) -> None:
         """Remove a bag's catalog entry, objects and index (catalog first, so it vanishes at once)."""
         if not record.in_store:

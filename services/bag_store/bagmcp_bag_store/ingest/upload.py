@@ -5,17 +5,19 @@ from __future__ import annotations
 import hashlib
 import re
 import shutil
+import time
 import uuid
 from collections.abc import AsyncIterator, Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 from bagmcp_bag_store.errors import UploadError, UploadTooLargeError
-from bagmcp_bag_store.ingest.archives import extract, is_archive
+from bagmcp_bag_store.ingest.archives import ArchiveLimits, extract, is_archive
 from bagmcp_bag_store.ingest.content import content_id
 from bagmcp_bag_store.ingest.shelf import Shelf
 from bagmcp_shared.bags import BagFormat, open_bag
 from bagmcp_shared.bags.detect import sniff_file
+from bagmcp_shared.bags.ros2_dir import storage_files
 from bagmcp_shared.catalog import BagRecord
 from bagmcp_shared.errors import BagError, StorageError
 
@@ -26,6 +28,36 @@ _SUFFIXES = {
     BagFormat.ROS2_MCAP: ".mcap",
 }
 _ARCHIVE_SUFFIXES = (".tar.gz", ".tgz", ".tar", ".zip")
+
+
+@dataclass(frozen=True)
+class UploadPolicy:
+    """How uploads are taken: ``max_bytes`` bounds the body and what an archive unpacks to, which is also at
+    most ``archive_expansion`` times the archive's size. A re-upload of a bag whose ingest failed, or has
+    not finished ``stuck_after_s`` after it was queued, queues its ingest again. ``uploads`` False refuses
+    uploads (an embedded server over a read-only folder). Bodies and unpacked archives go to ``upload_dir``
+    (the process's scratch directory)."""
+
+    shelf: Shelf
+    queue_ingest: Callable[[str], None]
+    upload_dir: Path
+    max_bytes: int
+    archive_expansion: int = 20
+    stuck_after_s: float = 120.0
+    uploads: bool = True
+
+    def archive_limits(self, received_bytes: int) -> ArchiveLimits:
+        return ArchiveLimits(max_bytes=min(self.max_bytes, self.archive_expansion * received_bytes))
+
+
+@dataclass(frozen=True)
+class Stored:
+    """An upload's outcome: the bag, whether it is new (False: the same content was there), and notes
+    (archive members left out)."""
+
+    record: BagRecord
+    created: bool
+    notes: list[str] = field(default_factory=list)
 
 
 @dataclass(frozen=True)
@@ -68,50 +100,66 @@ def sanitize_name(text: str) -> str:
     return clean
 
 
-def _layout(received: Received, staging: Path, filename: str, max_bytes: int) -> tuple[Path, list[str], str]:
-    """The bag's local root, its files, and its content hash."""
-    if is_archive(received.path):
-        root = extract(received.path, staging / "unpacked", max_bytes=max_bytes)
-    else:
+def _bag_files(root: Path) -> tuple[list[Path], list[str]]:
+    """The files of a ROS 2 bag directory (metadata.yaml and its storage files), and notes on the rest."""
+    try:
+        storage, _, _ = storage_files(root)
+    except BagError:
+        storage = []  # opening the bag reports what is wrong
+    everything = sorted(p for p in root.iterdir() if p.is_file())
+    kept = [p for p in everything if p.name == "metadata.yaml" or p in storage] if storage else everything
+    return kept, [
+        f"{p.name} was left out: the bag's metadata.yaml does not list it" for p in everything if p not in kept
+    ]
+
+
+def _layout(
+    received: Received, staging: Path, filename: str, policy: UploadPolicy
+) -> tuple[Path, list[str], str, list[str]]:
+    """The bag's local root, its files, its content hash, and notes on what was left out."""
+    if not is_archive(received.path):
         root = staging / (sanitize_name(filename) + _SUFFIXES[sniff_file(received.path)])
         shutil.move(received.path, root)
-        return root, [root.name], received.sha256
+        return root, [root.name], received.sha256, []
+    unpacked = extract(received.path, staging / "unpacked", limits=policy.archive_limits(received.size))
+    root = unpacked.root
     if root.is_file():
-        return root, [root.name], content_id([root], directory=False)
-    members = sorted(p for p in root.iterdir() if p.is_file())
-    return root, [p.name for p in members], content_id(members, directory=True)
+        return root, [root.name], content_id([root], directory=False), unpacked.dropped
+    members, left_out = _bag_files(root)
+    return root, [p.name for p in members], content_id(members, directory=True), [*unpacked.dropped, *left_out]
+
+
+def _stuck(record: BagRecord, stuck_after_s: float) -> bool:
+    """Failed, or still ingesting long after its ingest was queued (its worker died, or its task was lost)."""
+    queued = record.ingest_queued_at or record.created_at
+    return record.status == "failed" or (record.status == "ingesting" and time.time() - queued > stuck_after_s)
 
 
 def store_upload(
-    shelf: Shelf,
-    queue_ingest: Callable[[str], None],
-    received: Received,
-    *,
-    filename: str,
-    name: str | None,
-    tags: list[str],
-    staging_root: Path,
-    max_bytes: int,
-) -> tuple[BagRecord, bool]:
-    """Validate and store an upload, then queue its ingest; returns the record and whether it is
-    new (False = duplicate)."""
-    staging = staging_root / f"staging-{uuid.uuid4().hex}"
+    policy: UploadPolicy, received: Received, *, filename: str, name: str | None, tags: list[str]
+) -> Stored:
+    """Validate and store an upload, then queue its ingest. A re-upload of a stuck bag queues it again."""
+    staging = policy.upload_dir / f"staging-{uuid.uuid4().hex}"
     staging.mkdir(parents=True)
     try:
         try:
-            root, files, sha = _layout(received, staging, filename, max_bytes)
+            root, files, sha, notes = _layout(received, staging, filename, policy)
             with open_bag(root) as bag:
                 bag.summary()
         except BagError as err:  # name the upload, not the server's temporary paths
-            raise type(err)(re.sub(rf"{re.escape(str(staging_root))}[^\s:]*", filename, str(err))) from err
+            raise type(err)(re.sub(rf"{re.escape(str(policy.upload_dir))}[^\s:]*", filename, str(err))) from err
+        shelf = policy.shelf
         record, created = shelf.register(root, files, sha, name=sanitize_name(name or filename), tags=tags)
         if created:
             try:
-                queue_ingest(record.id)
+                policy.queue_ingest(record.id)
             except Exception as err:
                 shelf.remove(record)
                 raise StorageError(f"the ingest task could not be queued ({err}); nothing was stored") from err
-        return record, created
+        elif _stuck(record, policy.stuck_after_s):
+            record = shelf.requeued(record)
+            policy.queue_ingest(record.id)
+        return Stored(record, created, notes)
     finally:
         shutil.rmtree(staging, ignore_errors=True)
         received.path.unlink(missing_ok=True)

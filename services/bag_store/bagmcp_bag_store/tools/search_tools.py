@@ -32,7 +32,8 @@ def _search_summary(result: SearchResult) -> str:
 
 def _filter_summary(result: FilterResult) -> str:
     existed = "" if result.created else " (it existed already)"
-    return f"bag {result.name} ({result.bag_id}) with {result.message_count} messages{existed}"
+    note = f"; {result.note}" if result.note else ""
+    return f"bag {result.name} ({result.bag_id}) with {result.message_count} messages{existed}{note}"
 
 
 class SearchTools:

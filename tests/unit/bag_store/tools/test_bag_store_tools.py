@@ -6,6 +6,7 @@ import json
 
 import pytest
 from mcp import Client
+from mcp.types import TextContent
 
 from tests.checks.first_tools import check_first_tools
 from tests.checks.search_checks import check_search, finished
@@ -78,3 +79,27 @@ async def test_a_thousand_points_of_two_fields_fit_the_answer_budget(served_driv
     assert data["returned"] >= 900
     assert len(json.dumps(data, separators=(",", ":"))) <= 16_000
     assert max(data["columns"]["pose.pose.position.x"]) == pytest.approx(4.0, abs=1e-5)
+
+
+async def test_filter_bag_says_when_the_bag_existed_already_under_another_name(served: InProcess) -> None:
+    async with Client(served.service("bag-store"), cache=None) as client:
+        asked = {"bag": "scenario", "include_topics": ["/cmd_vel"]}  # one ROS 1 file: its bytes hold no name
+        first = await finished(client, await call(client, "filter_bag", **asked, name="cmd-first"))
+        again = await client.call_tool("filter_bag", {**asked, "name": "cmd-second"})
+    assert first["created"] is True
+    assert first["note"] is None
+    assert again.structured_content is not None
+    second = again.structured_content["result"]
+    assert (second["created"], second["name"], second["bag_id"]) == (False, "cmd-first", first["bag_id"])
+    assert "'cmd-second' was not used" in second["note"]
+    assert "cmd-first" in second["note"]
+    text = again.content[0]
+    assert isinstance(text, TextContent)
+    assert text.text.startswith("bag cmd-first")
+    assert "the name 'cmd-second' was not used" in text.text
+
+
+async def test_an_absurd_time_is_an_error_that_says_what_times_are_accepted(served: InProcess) -> None:
+    async with Client(served.service("bag-store"), cache=None) as client:
+        text = await call_error(client, "get_message_at_time", bag="scenario", topic="/odom", time=1e308)
+    assert text.endswith("time 1e+308 is out of range; give seconds from the bag start, epoch seconds or ISO-8601")

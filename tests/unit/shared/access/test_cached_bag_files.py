@@ -54,7 +54,8 @@ def test_a_failed_fetch_leaves_no_partial_entry(tmp_path: Path) -> None:
     store.delete("bags/gone/gone.bag")
     with pytest.raises(ObjectNotFoundError, match="gone"):
         cache.path_for(record)
-    assert [p.name for p in (tmp_path / "cache").iterdir() if not p.name.startswith(".lock-")] == []
+    left = [p.name for p in (tmp_path / "cache").rglob("*") if p.is_file() and not p.name.startswith(".lock-")]
+    assert left == []
 
 
 def test_many_threads_fetching_and_evicting_never_fail_and_stay_near_the_limit(tmp_path: Path) -> None:

@@ -1,0 +1,33 @@
+"""`bagmcp catalog rebuild`: list again, in the team catalog (Redis), every bag stored in S3, with the
+settings of the team stack (BAGMCP_* variables; for `make stack`: deploy/stack/run.sh bagmcp catalog rebuild)."""
+
+from __future__ import annotations
+
+import argparse
+
+from bagmcp_bag_store.ingest.rebuild import rebuild_catalog
+from bagmcp_bag_store.job_kinds import QUEUE
+from bagmcp_bag_store.wiring import ingest_queue
+from bagmcp_shared.resources import team_resources
+from bagmcp_shared.settings import Env, TeamSettings
+
+
+def rebuild(_args: argparse.Namespace) -> int:
+    resources = team_resources(TeamSettings.from_env(Env()), queue=QUEUE)
+    rebuilt = rebuild_catalog(resources.catalog, resources.store)
+    queue = ingest_queue(resources)
+    for bag_id in rebuilt.to_ingest:
+        queue(bag_id)
+    print(rebuilt)
+    for note in rebuilt.skipped:
+        print(f"  skipped {note}")
+    return 0
+
+
+def add_catalog_commands(commands: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
+    catalog = commands.add_parser("catalog", help="maintain the team catalog")
+    actions = catalog.add_subparsers(dest="action", required=True)
+    again = actions.add_parser(
+        "rebuild", help="list again every bag stored in S3 that the catalog lacks (settings from BAGMCP_*)"
+    )
+    again.set_defaults(handler=rebuild)
