@@ -10,9 +10,10 @@ from mcp.types import CallToolResult
 from pydantic import Field
 
 from bagmcp_kit.answers import run_query
-from bagmcp_kit.arguments import READ_ONLY, STOPS, ToolSpec, register
+from bagmcp_kit.arguments import READ_ONLY, STOPS, register
 from bagmcp_kit.identity import caller
 from bagmcp_kit.jobs import JobInfo
+from bagmcp_kit.toolsets import tool, tools_of
 from bagmcp_shared.jobs import JobStore, owned
 
 JobId = Annotated[str, Field(description="job_id from a tool's answer")]
@@ -22,6 +23,7 @@ class JobTools:
     def __init__(self, jobs: JobStore) -> None:
         self._jobs = jobs
 
+    @tool(READ_ONLY)
     def get_job(self, ctx: Context, job_id: JobId) -> Annotated[CallToolResult, JobInfo]:
         """State, progress and, once done, the result of a job a long call started.
         Example: get_job(job_id="3f2a...")."""
@@ -31,6 +33,7 @@ class JobTools:
             lambda j: f"job {j.job_id}: {j.state} ({j.progress:.0%}) {j.message}",
         )
 
+    @tool(STOPS)
     def cancel_job(self, ctx: Context, job_id: JobId) -> Annotated[CallToolResult, JobInfo]:
         """Stop a queued or running job; nothing is left half-done. Example: cancel_job(job_id="3f2a...")."""
         who = caller(ctx)
@@ -47,6 +50,5 @@ class JobTools:
 def build_jobs_server(jobs: JobStore) -> MCPServer:
     """The jobs MCP server; the gateway (or the embedded command) hosts it next to the services."""
     server = MCPServer("bagmcp-jobs", instructions="Follow and stop the long work other tools started.")
-    tools = JobTools(jobs)
-    register(server, [ToolSpec(tools.get_job, READ_ONLY), ToolSpec(tools.cancel_job, STOPS)])
+    register(server, tools_of(JobTools(jobs)))
     return server

@@ -2,28 +2,55 @@
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+from dataclasses import dataclass
+
 from mcp.server.auth.settings import AuthSettings
 from mcp.server.mcpserver import MCPServer
 from pydantic import AnyHttpUrl
 
-from bagmcp_kit.arguments import CONVENTIONS
+from bagmcp_kit.arguments import CONVENTIONS, register
 from bagmcp_kit.auth import SERVICE_SCOPE, ServiceTokenVerifier
+from bagmcp_kit.toolsets import tools_of
+from bagmcp_shared.settings import ServiceSettings
+
+
+@dataclass(frozen=True)
+class Guard:
+    """What a service's MCP server checks over HTTP: the service credential every call carries (the
+    gateway's), and the URL the service is reached at (named in its auth metadata)."""
+
+    service_token: str
+    public_url: str
+
+    @classmethod
+    def of(cls, settings: ServiceSettings) -> Guard:
+        return cls(settings.team.service_token, settings.public_url)
 
 
 def new_server(
-    name: str, *, purpose: str, service_token: str | None = None, public_url: str = "http://127.0.0.1:8000"
+    name: str,
+    *,
+    purpose: str,
+    tools: Sequence[object],
+    guard: Guard | None = None,
 ) -> MCPServer:
-    """An MCP server whose instructions state what it is for and the shared conventions once.
+    """An MCP server with the marked tools of ``tools`` (objects, in order), whose instructions state
+    what it is for and the shared conventions once.
 
-    With ``service_token`` every call must carry it (the gateway's credential); without one the
-    server is for in-process use (embedded mode, tests)."""
+    Without a ``guard`` the server is for in-process use (embedded mode, tests)."""
     instructions = f"{purpose} {CONVENTIONS}"
-    if service_token is None:
-        return MCPServer(name, instructions=instructions)
-    auth = AuthSettings(
-        issuer_url=AnyHttpUrl(public_url),
-        resource_server_url=AnyHttpUrl(f"{public_url}/mcp"),
-        required_scopes=[SERVICE_SCOPE],
-        validate_token_resource=False,
-    )
-    return MCPServer(name, instructions=instructions, token_verifier=ServiceTokenVerifier(service_token), auth=auth)
+    if guard is None:
+        server = MCPServer(name, instructions=instructions)
+    else:
+        auth = AuthSettings(
+            issuer_url=AnyHttpUrl(guard.public_url),
+            resource_server_url=AnyHttpUrl(f"{guard.public_url}/mcp"),
+            required_scopes=[SERVICE_SCOPE],
+            validate_token_resource=False,
+        )
+        server = MCPServer(
+            name, instructions=instructions, token_verifier=ServiceTokenVerifier(guard.service_token), auth=auth
+        )
+    register(server, tools_of(*tools))
+    return server

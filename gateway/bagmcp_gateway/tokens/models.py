@@ -77,16 +77,7 @@ class TokenInfo(BaseModel):
 
     @classmethod
     def of(cls, record: TokenRecord) -> TokenInfo:
-        return cls(
-            name=record.name,
-            scopes=record.scopes,
-            profile=record.profile,
-            allow=record.allow,
-            deny=record.deny,
-            created_at=record.created_at,
-            expires_at=record.expires_at,
-            expired=record.expired(),
-        )
+        return cls(**record.model_dump(exclude={"hash"}), expired=record.expired())
 
 
 class NewToken(BaseModel):

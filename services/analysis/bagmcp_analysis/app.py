@@ -6,17 +6,14 @@ from fastapi import FastAPI
 
 from bagmcp_analysis.job_kinds import QUEUE
 from bagmcp_analysis.wiring import build_analysis
+from bagmcp_kit.server import Guard
 from bagmcp_kit.service_app import create_service_app
 from bagmcp_shared.resources import team_resources
 from bagmcp_shared.settings import ServiceSettings
 
 
 def create_app(settings: ServiceSettings) -> FastAPI:
-    server, _ = build_analysis(
-        team_resources(settings.team, queue=QUEUE),
-        service_token=settings.team.service_token,
-        public_url=settings.public_url,
-    )
+    server, _ = build_analysis(team_resources(settings.team, queue=QUEUE), guard=Guard.of(settings))
     return create_service_app(
         title="bagmcp analysis",
         server=server,

@@ -13,6 +13,7 @@ from bagmcp_analysis.queries.trajectory import analyze_trajectory
 from bagmcp_analysis.queries.window import summarize_window
 from bagmcp_analysis.tools import build_server
 from bagmcp_kit.longwork import LongWork
+from bagmcp_kit.server import Guard
 from bagmcp_shared.access import BagAccess
 from bagmcp_shared.jobs import JobRegistry
 from bagmcp_shared.resources import Resources
@@ -31,9 +32,7 @@ def build_registry(access: BagAccess) -> JobRegistry:
     return registry
 
 
-def build_analysis(
-    res: Resources, *, service_token: str | None = None, public_url: str = "http://127.0.0.1:8002"
-) -> tuple[MCPServer, JobRegistry]:
+def build_analysis(res: Resources, *, guard: Guard | None = None) -> tuple[MCPServer, JobRegistry]:
     registry = build_registry(res.access)
     work = LongWork(res.jobs, res.runner, registry, budget_s=res.job_budget_s)
-    return build_server(res.access, work, service_token=service_token, public_url=public_url), registry
+    return build_server(res.access, work, guard=guard), registry

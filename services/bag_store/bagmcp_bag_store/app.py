@@ -9,6 +9,7 @@ from bagmcp_bag_store.ingest.rebuild import restore_lost_catalog
 from bagmcp_bag_store.job_kinds import QUEUE
 from bagmcp_bag_store.settings import BagStoreSettings
 from bagmcp_bag_store.wiring import build_bag_store, ingest_queue
+from bagmcp_kit.server import Guard
 from bagmcp_kit.service_app import create_service_app
 from bagmcp_shared.resources import team_resources
 
@@ -18,12 +19,7 @@ def create_app(settings: BagStoreSettings) -> FastAPI:
     service = settings.service
     resources = team_resources(service.team, queue=QUEUE)
     restore_lost_catalog(resources.catalog, resources.store, ingest_queue(resources))
-    bag_store = build_bag_store(
-        resources,
-        uploads=settings.uploads,
-        service_token=service.team.service_token,
-        public_url=service.public_url,
-    )
+    bag_store = build_bag_store(resources, uploads=settings.uploads, guard=Guard.of(service))
     return create_service_app(
         title="bagmcp bag-store",
         server=bag_store.server,

@@ -18,6 +18,7 @@ from bagmcp_bag_store.query.search import search_messages
 from bagmcp_bag_store.settings import UploadSettings
 from bagmcp_bag_store.tools import build_server
 from bagmcp_kit.longwork import LongWork
+from bagmcp_kit.server import Guard
 from bagmcp_shared.jobs import JobRegistry
 from bagmcp_shared.resources import Resources
 
@@ -58,14 +59,11 @@ def build_bag_store(
     res: Resources,
     *,
     uploads: UploadSettings,
-    service_token: str | None = None,
-    public_url: str = "http://127.0.0.1:8001",
+    guard: Guard | None = None,
 ) -> BagStore:
     work = build_work(res)
     longwork = LongWork(res.jobs, res.runner, work.registry, budget_s=res.job_budget_s)
-    server = build_server(
-        res.access, longwork, budget_bytes=res.max_result_bytes, service_token=service_token, public_url=public_url
-    )
+    server = build_server(res.access, longwork, budget_bytes=res.max_result_bytes, guard=guard)
     policy = UploadPolicy(
         shelf=work.shelf,
         queue_ingest=ingest_queue(res),

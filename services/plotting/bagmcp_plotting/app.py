@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from fastapi import FastAPI
 
+from bagmcp_kit.server import Guard
 from bagmcp_kit.service_app import create_service_app
 from bagmcp_plotting.job_kinds import QUEUE
 from bagmcp_plotting.settings import PlottingSettings
@@ -16,8 +17,7 @@ def create_app(settings: PlottingSettings) -> FastAPI:
     server, router, _ = build_plotting(
         team_resources(service.team, queue=QUEUE),
         artifact_base_url=settings.artifact_base_url,
-        service_token=service.team.service_token,
-        public_url=service.public_url,
+        guard=Guard.of(service),
     )
     return create_service_app(
         title="bagmcp plotting",

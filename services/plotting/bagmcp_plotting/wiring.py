@@ -6,16 +6,18 @@ from fastapi import APIRouter
 from mcp.server.mcpserver import MCPServer
 
 from bagmcp_kit.longwork import LongWork
+from bagmcp_kit.server import Guard
 from bagmcp_plotting.artifacts import Artifacts, build_artifact_router
 from bagmcp_plotting.job_kinds import COMPARE_RUNS, PLOT_2D, PLOT_HISTOGRAM, PLOT_SCAN, PLOT_TIMESERIES
 from bagmcp_plotting.plots import Plotter
 from bagmcp_plotting.tools import build_server
+from bagmcp_shared.access import BagAccess
 from bagmcp_shared.jobs import JobRegistry
 from bagmcp_shared.resources import Resources
 
 
-def build_registry(res: Resources, artifacts: Artifacts) -> JobRegistry:
-    plotter = Plotter(res.access, artifacts)
+def build_registry(access: BagAccess, artifacts: Artifacts) -> JobRegistry:
+    plotter = Plotter(access, artifacts)
     registry = JobRegistry()
     registry.add(PLOT_TIMESERIES, plotter.timeseries)
     registry.add(PLOT_2D, plotter.xy)
@@ -29,11 +31,10 @@ def build_plotting(
     res: Resources,
     *,
     artifact_base_url: str = "",
-    service_token: str | None = None,
-    public_url: str = "http://127.0.0.1:8003",
+    guard: Guard | None = None,
 ) -> tuple[MCPServer, APIRouter, JobRegistry]:
     artifacts = Artifacts(res.store, base_url=artifact_base_url)
-    registry = build_registry(res, artifacts)
+    registry = build_registry(res.access, artifacts)
     work = LongWork(res.jobs, res.runner, registry, budget_s=res.job_budget_s)
-    server = build_server(res.access, work, artifacts, service_token=service_token, public_url=public_url)
+    server = build_server(res.access, work, artifacts, guard=guard)
     return server, build_artifact_router(artifacts), registry

@@ -10,4 +10,4 @@ from bagmcp_plotting.wiring import build_registry
 from bagmcp_shared.jobs.worker import job_worker
 
 _base_url = PlottingSettings.from_env().artifact_base_url
-app, _resources = job_worker(RUN_JOB, lambda res: build_registry(res, Artifacts(res.store, base_url=_base_url)))
+app, _resources = job_worker(RUN_JOB, lambda res: build_registry(res.access, Artifacts(res.store, base_url=_base_url)))

@@ -12,7 +12,8 @@ from pydantic import Field
 from bagmcp_analysis.queries.images import get_image_at_time
 from bagmcp_analysis.reports.images import ImageReport
 from bagmcp_kit.answers import answer, tool_errors
-from bagmcp_kit.arguments import BagRef, TimeArg
+from bagmcp_kit.arguments import READ_ONLY, BagRef, TimeArg
+from bagmcp_kit.toolsets import tool
 from bagmcp_shared.access import BagAccess
 
 
@@ -20,6 +21,7 @@ class ImageTools:
     def __init__(self, access: BagAccess) -> None:
         self._access = access
 
+    @tool(READ_ONLY)
     async def get_image_at_time(
         self,
         bag: BagRef,

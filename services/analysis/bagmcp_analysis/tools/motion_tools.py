@@ -16,10 +16,9 @@ from bagmcp_analysis.reports.lidar import LidarReport
 from bagmcp_analysis.reports.trajectory import TrajectoryReport
 from bagmcp_analysis.reports.window import WindowReport
 from bagmcp_kit.answers import tool_errors
-from bagmcp_kit.arguments import BagRef, TimeArg, params_of
+from bagmcp_kit.arguments import READ_ONLY, BagRef, TimeArg, params_of
 from bagmcp_kit.jobs import LongAnswer
-from bagmcp_kit.longwork import LongWork
-from bagmcp_shared.access import BagAccess
+from bagmcp_kit.toolsets import BagTools, tool
 
 OptionalTopic = Annotated[str | None, Field(description="default: the obvious one")]
 
@@ -44,11 +43,8 @@ def _lidar_summary(r: LidarReport) -> str:
     return f"{r.scans} scans of {r.topic}; closest {r.closest.range_m if r.closest else float('nan'):.3f} m{seen}"
 
 
-class MotionTools:
-    def __init__(self, access: BagAccess, work: LongWork) -> None:
-        self._access = access
-        self._work = work
-
+class MotionTools(BagTools):
+    @tool(READ_ONLY)
     async def analyze_trajectory(
         self,
         ctx: Context,
@@ -65,6 +61,7 @@ class MotionTools:
             ctx, TRAJECTORY, params, _trajectory_summary, small=lambda p: trajectory_is_small(self._access, p)
         )
 
+    @tool(READ_ONLY)
     async def analyze_lidar_scan(
         self,
         ctx: Context,
@@ -82,6 +79,7 @@ class MotionTools:
             params = params_of(LidarParams, bag=bag, topic=topic, time=time, start=start, end=end, within_m=within)
         return await self._work.run(ctx, LIDAR, params, _lidar_summary, small=lambda p: lidar_is_small(self._access, p))
 
+    @tool(READ_ONLY)
     async def summarize_window(
         self, ctx: Context, bag: BagRef, start: TimeArg | None = None, end: TimeArg | None = None
     ) -> Annotated[CallToolResult, LongAnswer[WindowReport]]:

@@ -25,10 +25,9 @@ from bagmcp_analysis.reports.logs import LogReport
 from bagmcp_analysis.reports.statistics import TopicStatisticsReport
 from bagmcp_analysis.reports.tf import TfTreeReport, TransformReport
 from bagmcp_kit.answers import tool_errors
-from bagmcp_kit.arguments import BagRef, Offset, TimeArg, TopicName, params_of
+from bagmcp_kit.arguments import READ_ONLY, BagRef, Offset, TimeArg, TopicName, params_of
 from bagmcp_kit.jobs import LongAnswer
-from bagmcp_kit.longwork import LongWork
-from bagmcp_shared.access import BagAccess
+from bagmcp_kit.toolsets import BagTools, tool
 
 Level = Annotated[str | None, Field(description="DEBUG, INFO, WARN, ERROR, FATAL (or number)")]
 Frame = Annotated[str, Field(description="TF frame id")]
@@ -49,11 +48,8 @@ def _statistics_summary(r: TopicStatisticsReport) -> str:
     )
 
 
-class RecordTools:
-    def __init__(self, access: BagAccess, work: LongWork) -> None:
-        self._access = access
-        self._work = work
-
+class RecordTools(BagTools):
+    @tool(READ_ONLY)
     async def analyze_logs(
         self,
         ctx: Context,
@@ -88,6 +84,7 @@ class RecordTools:
             )
         return await self._work.run(ctx, LOGS, params, _log_summary, small=lambda p: logs_are_small(self._access, p))
 
+    @tool(READ_ONLY)
     async def get_tf_tree(
         self, ctx: Context, bag: BagRef, time: Annotated[TimeArg | None, Field(description="default: whole bag")] = None
     ) -> Annotated[CallToolResult, LongAnswer[TfTreeReport]]:
@@ -103,6 +100,7 @@ class RecordTools:
             small=lambda p: tf_is_small(self._access, p.bag),
         )
 
+    @tool(READ_ONLY)
     async def lookup_transform(
         self,
         ctx: Context,
@@ -125,6 +123,7 @@ class RecordTools:
             small=lambda p: tf_is_small(self._access, p.bag),
         )
 
+    @tool(READ_ONLY)
     async def topic_statistics(
         self,
         ctx: Context,

@@ -10,7 +10,8 @@ from pydantic import Field
 from bagmcp_bag_store.query import catalog_queries
 from bagmcp_bag_store.results import BagInfo, BagList, TopicDescription
 from bagmcp_kit.answers import run_query
-from bagmcp_kit.arguments import BagRef, Offset, TopicName
+from bagmcp_kit.arguments import READ_ONLY, BagRef, Offset, TopicName
+from bagmcp_kit.toolsets import tool
 from bagmcp_shared.access import BagAccess
 
 
@@ -19,6 +20,7 @@ class CatalogTools:
         self._access = access
         self._budget = budget_bytes
 
+    @tool(READ_ONLY)
     def list_bags(
         self,
         name: Annotated[str | None, Field(description="part of the name")] = None,
@@ -33,6 +35,7 @@ class CatalogTools:
             lambda r: f"{r.total} bags; showing {len(r.bags)} from {r.offset}",
         )
 
+    @tool(READ_ONLY)
     def bag_info(self, bag: BagRef) -> Annotated[CallToolResult, BagInfo]:
         """One bag's format, size, start/end, duration and every topic with type, count and rate (odd rates
         explained). Example: bag="run1"."""
@@ -41,6 +44,7 @@ class CatalogTools:
             lambda r: f"{r.name}: {r.message_count} messages on {len(r.topics)} topics over {r.duration_s:.3f} s",
         )
 
+    @tool(READ_ONLY)
     def describe_topic(self, bag: BagRef, topic: TopicName) -> Annotated[CallToolResult, TopicDescription]:
         """A topic's field paths with types and units, plus its first message as a sample; use the paths in
         `fields` and plots. Example: topic="/odom"."""

@@ -11,7 +11,8 @@ from bagmcp_bag_store.query import messages
 from bagmcp_bag_store.query.column_range import messages_as_columns
 from bagmcp_bag_store.results import MessageAtTime, MessageRange
 from bagmcp_kit.answers import run_query
-from bagmcp_kit.arguments import BagRef, Fields, TimeArg, TopicName
+from bagmcp_kit.arguments import READ_ONLY, BagRef, Fields, TimeArg, TopicName
+from bagmcp_kit.toolsets import tool
 from bagmcp_shared.access import BagAccess
 
 
@@ -20,6 +21,7 @@ class MessageTools:
         self._access = access
         self._budget = budget_bytes
 
+    @tool(READ_ONLY)
     def get_message_at_time(
         self, bag: BagRef, topic: TopicName, time: TimeArg, fields: Fields = None
     ) -> Annotated[CallToolResult, MessageAtTime]:
@@ -30,6 +32,7 @@ class MessageTools:
             lambda r: f"{r.topic} at {r.message.time.offset_s:.3f} s ({r.delta_s:+.3f} s from the requested time)",
         )
 
+    @tool(READ_ONLY)
     def get_messages_in_range(
         self,
         bag: BagRef,

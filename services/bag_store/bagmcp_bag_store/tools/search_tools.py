@@ -13,10 +13,9 @@ from bagmcp_bag_store.query.conditions import Condition
 from bagmcp_bag_store.query.search import is_small
 from bagmcp_bag_store.results import FilterResult, SearchResult
 from bagmcp_kit.answers import tool_errors
-from bagmcp_kit.arguments import BagRef, TimeArg, TopicName, params_of
+from bagmcp_kit.arguments import READ_ONLY, WRITES, BagRef, TimeArg, TopicName, params_of
 from bagmcp_kit.jobs import LongAnswer
-from bagmcp_kit.longwork import LongWork
-from bagmcp_shared.access import BagAccess
+from bagmcp_kit.toolsets import BagTools, tool
 
 Format = Literal["ros1", "ros2-sqlite3", "ros2-mcap"]  # OutputFormat's values, inline in the schema
 ConditionValue = Annotated[
@@ -36,11 +35,8 @@ def _filter_summary(result: FilterResult) -> str:
     return f"bag {result.name} ({result.bag_id}) with {result.message_count} messages{existed}{note}"
 
 
-class SearchTools:
-    def __init__(self, access: BagAccess, work: LongWork) -> None:
-        self._access = access
-        self._work = work
-
+class SearchTools(BagTools):
+    @tool(READ_ONLY)
     async def search_messages(
         self,
         ctx: Context,
@@ -74,6 +70,7 @@ class SearchTools:
             )
         return await self._work.run(ctx, SEARCH, params, _search_summary, small=lambda p: is_small(self._access, p))
 
+    @tool(WRITES)
     async def filter_bag(
         self,
         ctx: Context,

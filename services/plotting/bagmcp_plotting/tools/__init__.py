@@ -1,13 +1,12 @@
-"""The plotting service's MCP server: its tools, registered in one place."""
+"""The plotting service's MCP server: its tool class and stored plots as resources."""
 
 from __future__ import annotations
 
 from mcp.server.mcpserver import MCPServer
 from mcp.server.mcpserver.exceptions import ResourceError
 
-from bagmcp_kit.arguments import READ_ONLY, ToolSpec, register
 from bagmcp_kit.longwork import LongWork
-from bagmcp_kit.server import new_server
+from bagmcp_kit.server import Guard, new_server
 from bagmcp_plotting.artifacts import ARTIFACT_URI, Artifacts
 from bagmcp_plotting.tools.plot_tools import PlotTools
 from bagmcp_shared.access import BagAccess
@@ -19,26 +18,8 @@ PURPOSE = (
 )
 
 
-def build_server(
-    access: BagAccess,
-    work: LongWork,
-    artifacts: Artifacts,
-    *,
-    service_token: str | None = None,
-    public_url: str = "http://127.0.0.1:8003",
-) -> MCPServer:
-    server = new_server("bagmcp-plotting", purpose=PURPOSE, service_token=service_token, public_url=public_url)
-    plots = PlotTools(access, work, artifacts)
-    register(
-        server,
-        [
-            ToolSpec(plots.plot_timeseries, READ_ONLY),
-            ToolSpec(plots.plot_2d, READ_ONLY),
-            ToolSpec(plots.plot_lidar_scan, READ_ONLY),
-            ToolSpec(plots.plot_histogram, READ_ONLY),
-            ToolSpec(plots.compare_runs, READ_ONLY),
-        ],
-    )
+def build_server(access: BagAccess, work: LongWork, artifacts: Artifacts, *, guard: Guard | None = None) -> MCPServer:
+    server = new_server("bagmcp-plotting", purpose=PURPOSE, tools=[PlotTools(access, work, artifacts)], guard=guard)
     _artifact_resource(server, artifacts)
     return server
 

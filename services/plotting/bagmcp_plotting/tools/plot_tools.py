@@ -15,9 +15,10 @@ from mcp.types import CallToolResult, ContentBlock, ImageContent, ResourceLink, 
 from pydantic import BaseModel, Field
 
 from bagmcp_kit.answers import tool_errors
-from bagmcp_kit.arguments import BagRef, TimeArg, params_of
+from bagmcp_kit.arguments import READ_ONLY, BagRef, TimeArg, params_of
 from bagmcp_kit.jobs import LongAnswer
 from bagmcp_kit.longwork import LongWork
+from bagmcp_kit.toolsets import BagTools, tool
 from bagmcp_plotting.artifacts import ARTIFACT_URI, Artifacts
 from bagmcp_plotting.data import path_is_indexed
 from bagmcp_plotting.job_kinds import (
@@ -55,10 +56,9 @@ def _how_to_see(tool: str) -> str:
     )
 
 
-class PlotTools:
+class PlotTools(BagTools):
     def __init__(self, access: BagAccess, work: LongWork, artifacts: Artifacts) -> None:
-        self._access = access
-        self._work = work
+        super().__init__(access, work)
         self._artifacts = artifacts
 
     def _attach(self, report: PlotReport) -> list[ContentBlock]:
@@ -97,6 +97,7 @@ class PlotTools:
             answer.content.append(TextContent(type="text", text=_how_to_see(tool)))
         return answer
 
+    @tool(READ_ONLY)
     async def plot_timeseries(
         self,
         ctx: Context,
@@ -115,6 +116,7 @@ class PlotTools:
             ctx, "plot_timeseries", PLOT_TIMESERIES, params, [bag], lambda p: self._indexed(p.bag, p.paths)
         )
 
+    @tool(READ_ONLY)
     async def plot_2d(
         self,
         ctx: Context,
@@ -140,6 +142,7 @@ class PlotTools:
             topic, _, _ = choose_pose_topic(ob, params.topic)
             return ob.indexed(topic) or ob.short(topic)
 
+    @tool(READ_ONLY)
     async def plot_lidar_scan(
         self,
         ctx: Context,
@@ -154,6 +157,7 @@ class PlotTools:
             params = params_of(ScanPlotParams, bag=bag, topic=topic, time=time, within_m=within)
         return await self._plot(ctx, "plot_lidar_scan", PLOT_SCAN, params, [bag], lambda p: True)
 
+    @tool(READ_ONLY)
     async def plot_histogram(
         self,
         ctx: Context,
@@ -171,6 +175,7 @@ class PlotTools:
             ctx, "plot_histogram", PLOT_HISTOGRAM, params, [bag], lambda p: self._indexed(p.bag, [p.path])
         )
 
+    @tool(READ_ONLY)
     async def compare_runs(
         self,
         ctx: Context,

@@ -1,0 +1,45 @@
+"""Tool classes: a service's tools are methods marked with their annotations, found and registered in
+the order they are written, so a tool is declared in one place."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import TypeVar
+
+from mcp.types import ToolAnnotations
+
+from bagmcp_kit.arguments import ToolSpec
+from bagmcp_kit.longwork import LongWork
+from bagmcp_shared.access import BagAccess
+
+F = TypeVar("F", bound=Callable[..., object])
+_MARK = "__bagmcp_tool__"
+
+
+def tool(annotations: ToolAnnotations) -> Callable[[F], F]:
+    """Mark a method as a tool with these annotations (its docstring is the description)."""
+
+    def mark(fn: F) -> F:
+        setattr(fn, _MARK, annotations)
+        return fn
+
+    return mark
+
+
+def tools_of(*groups: object) -> list[ToolSpec]:
+    """The marked methods of each object, bound to it, in the order the classes define them."""
+    specs = []
+    for group in groups:
+        for cls in reversed(type(group).__mro__):
+            for name, member in vars(cls).items():
+                if isinstance(annotations := getattr(member, _MARK, None), ToolAnnotations):
+                    specs.append(ToolSpec(getattr(group, name), annotations))
+    return specs
+
+
+class BagTools:
+    """Tools that open the bags callers name and may hand long work to a job."""
+
+    def __init__(self, access: BagAccess, work: LongWork) -> None:
+        self._access = access
+        self._work = work
