@@ -14,7 +14,7 @@ from mcp import Client, StdioServerParameters
 from tests.checks.first_tools import check_first_tools
 from tests.fixtures.bagfactory import BagKind
 from tests.fixtures.mcp_client import call, http_client
-from tests.fixtures.processes import BIN, http_ok, service, wait_until
+from tests.fixtures.processes import BIN, http_ok, service
 from tests.fixtures.servers import free_port
 
 pytestmark = pytest.mark.anyio
@@ -115,24 +115,40 @@ def test_serve_with_a_token_rejects_calls_without_it(bag_folder: Path, tmp_path:
         assert authorized.status_code == 200
 
 
-def test_serve_answers_at_once_and_hashes_a_large_folder_in_the_background(tmp_path: Path) -> None:
+async def test_serve_answers_at_once_and_hashes_a_large_folder_in_the_background(
+    scenario_bags: dict[BagKind, Path], tmp_path: Path
+) -> None:
     folder = tmp_path / "bags"
     folder.mkdir()
-    huge = folder / "huge.bag"
+    huge = folder / "a_huge.bag"  # first by name; small bags are still ingested first
     with huge.open("wb") as file:  # a sparse 3 GiB file that starts like a ROS 1 bag: hashing it takes seconds
         file.write(b"#ROSBAG V2.0\n")
         file.truncate(3 << 30)
+    shutil.copy(scenario_bags["ros1"], folder / "scenario.bag")
     port = free_port()
     url = f"http://127.0.0.1:{port}"
     with service(
         "serve-huge", _serve(folder, port, tmp_path / "data"), env={}, log_dir=tmp_path, ready=http_ok(f"{url}/healthz")
     ):
-        listed = httpx.get(f"{url}/api/v1/bags/huge").json()
+        listed = httpx.get(f"{url}/api/v1/bags/a_huge").json()
         assert listed["status"] == "ingesting"
         assert listed["sha256"] == ""  # listed before its content was hashed
-        wait_until(
-            lambda: httpx.get(f"{url}/api/v1/bags/huge").json()["status"] == "failed", timeout_s=120, what="ingest"
-        )
-        done = httpx.get(f"{url}/api/v1/bags/huge").json()
+        async with http_client(f"{url}/mcp", None) as client:
+            progress: list[float] = []
+            with anyio.fail_after(120):
+                while (bags := {b["name"]: b for b in (await call(client, "list_bags"))["bags"]})["scenario"][
+                    "status"
+                ] != "ready":
+                    await anyio.sleep(0.05)
+                info = await call(client, "bag_info", bag="scenario")  # usable while the large bag is hashed
+                assert info["message_count"] > 0
+                while (huge_bag := bags["a_huge"])["status"] == "ingesting":
+                    progress.append(huge_bag["progress"] or 0.0)
+                    await anyio.sleep(0.1)
+                    bags = {b["name"]: b for b in (await call(client, "list_bags"))["bags"]}
+        assert any(0 < p < 0.5 for p in progress), progress  # hashing is the first half of its progress
+        assert progress == sorted(progress)
+        done = httpx.get(f"{url}/api/v1/bags/a_huge").json()
+        assert done["status"] == "failed"
         assert len(done["sha256"]) == 64  # hashed in the background, then refused with the reason
         assert done["error"]

@@ -3,26 +3,34 @@
 from __future__ import annotations
 
 import hashlib
+from collections.abc import Callable
 from pathlib import Path
 
 _CHUNK = 1 << 20
+Hashed = Callable[[int], None]  # told the bytes hashed so far
 
 
-def _file_digest(path: Path) -> str:
+def _file_digest(path: Path, hashed: Hashed, done_before: int) -> str:
     digest = hashlib.sha256()
+    done = done_before
     with path.open("rb") as file:
         while chunk := file.read(_CHUNK):
             digest.update(chunk)
+            done += len(chunk)
+            hashed(done)
     return digest.hexdigest()
 
 
-def content_id(paths: list[Path], *, directory: bool) -> str:
+def content_id(paths: list[Path], *, directory: bool, hashed: Hashed = lambda _bytes: None) -> str:
     """The content hash a bag is known by: the file's sha256, or for a ROS 2 directory the sha256
-    of its ``name NUL sha256`` lines (the same rule uploads use)."""
+    of its ``name NUL sha256`` lines (the same rule uploads use). ``hashed`` follows the reading."""
     if not directory:
-        return _file_digest(paths[0])
-    listing = "".join(f"{p.name}\0{_file_digest(p)}\n" for p in sorted(paths, key=lambda p: p.name))
-    return hashlib.sha256(listing.encode()).hexdigest()
+        return _file_digest(paths[0], hashed, 0)
+    lines, done = [], 0
+    for path in sorted(paths, key=lambda p: p.name):
+        lines.append(f"{path.name}\0{_file_digest(path, hashed, done)}\n")
+        done += path.stat().st_size
+    return hashlib.sha256("".join(lines).encode()).hexdigest()
 
 
 SAMPLE = 1 << 20  # bytes read at each of three places of a large file

@@ -8,7 +8,8 @@ import logging
 import time
 from pathlib import Path
 
-from bagmcp_bag_store.ingest.content import content_id, quick_content_id
+from bagmcp_bag_store.ingest.content import Hashed, content_id, quick_content_id
+from bagmcp_bag_store.ingest.ingest import progress_recorder
 from bagmcp_bag_store.ingest.upload import sanitize_name
 from bagmcp_shared.bags.detect import sniff_file
 from bagmcp_shared.bags.ros2_dir import storage_files
@@ -46,10 +47,10 @@ class IdCache:
             with contextlib.suppress(ValueError, OSError):
                 self._known = dict(json.loads(path.read_text()))
 
-    def content_id(self, members: list[Path], *, directory: bool) -> str:
+    def content_id(self, members: list[Path], *, directory: bool, hashed: Hashed = lambda _bytes: None) -> str:
         key = "|".join(f"{m.resolve()}:{m.stat().st_size}:{m.stat().st_mtime_ns}" for m in members)
         if key not in self._known:
-            self._known[key] = content_id(members, directory=directory)
+            self._known[key] = content_id(members, directory=directory, hashed=hashed)
         return self._known[key]
 
     def save(self) -> None:
@@ -92,8 +93,9 @@ def _record(root: Path, bag: Path) -> BagRecord:
 
 
 def catalog_folder(catalog: Catalog, root: Path) -> list[str]:
-    """Add every readable-looking bag under ``root`` at once (no bag is read through); returns their ids."""
-    ids: list[str] = []
+    """Add every readable-looking bag under ``root`` at once (no bag is read through); returns the ids to
+    ingest, smallest bag first, so small bags are usable while large ones are still being hashed."""
+    queued: list[tuple[int, str]] = []
     for bag in find_bags(root):
         try:
             record = _record(root, bag)
@@ -108,14 +110,18 @@ def catalog_folder(catalog: Catalog, root: Path) -> list[str]:
                     name = f"{record.name}-{n}"
             catalog.add(record.model_copy(update={"name": name}))
             if record.status == "ingesting":
-                ids.append(record.id)
+                queued.append((record.size_bytes, record.id))
         except (BagmcpError, OSError) as err:
             log.warning("skipping %s: %s", bag, err)
-    return ids
+    return [bag_id for _, bag_id in sorted(queued)]
+
+
+HASHING_SHARE = 0.5  # of a served bag's ingest progress, before its index is built
 
 
 class FolderHashes:
-    """Fills in the full sha256 of served bags in the background (cached by path, size and mtime)."""
+    """Fills in the full sha256 of served bags in the background (cached by path, size and mtime),
+    recording the hashing as the first half of the bag's ingest progress."""
 
     def __init__(self, catalog: Catalog, root: Path, cache: Path) -> None:
         self._catalog = catalog
@@ -128,7 +134,11 @@ class FolderHashes:
             return
         base = self._root / record.source
         members = [base] if record.layout == "file" else [base / name for name in record.files]
-        sha = self._ids.content_id(members, directory=record.layout == "directory")
+        report = progress_recorder(self._catalog, bag_id, start=0.0, end=HASHING_SHARE)
+        size = max(record.size_bytes, 1)
+        sha = self._ids.content_id(
+            members, directory=record.layout == "directory", hashed=lambda done: report(done / size, "hashing")
+        )
         self._ids.save()
         current = self._catalog.get(bag_id)
         if current is not None:

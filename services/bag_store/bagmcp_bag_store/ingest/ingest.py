@@ -21,6 +21,24 @@ log = logging.getLogger(__name__)
 PROGRESS_EVERY_S = 0.5
 
 
+def progress_recorder(catalog: Catalog, bag_id: str, *, start: float, end: float) -> Callable[[float, str], None]:
+    """Records a stage's progress (0..1) on the bag as ``start``..``end`` of the whole (list_bags shows
+    it while the bag is ingesting), at most twice a second."""
+    last = 0.0
+
+    def report(fraction: float, _message: str) -> None:
+        nonlocal last
+        if time.monotonic() - last < PROGRESS_EVERY_S:
+            return
+        last = time.monotonic()
+        record = catalog.get(bag_id)
+        if record is not None and record.status == "ingesting":
+            value = start + (end - start) * min(max(fraction, 0.0), 1.0)
+            catalog.replace(record.model_copy(update={"progress": round(min(value, 0.99), 3)}))
+
+    return report
+
+
 def _definitions(bag: BagReader) -> dict[str, dict[str, str]]:
     return {c.msgtype: {"format": c.definition_format, "text": c.definition} for c in bag.connections}
 
@@ -73,20 +91,9 @@ class Ingestor:
             return "deleted"
         return "ready"
 
-    def _progress(self, bag_id: str) -> Callable[[float, str], None]:
-        """Records ingest progress on the bag (list_bags shows it), at most twice a second."""
-        last = 0.0
-
-        def report(fraction: float, _message: str) -> None:
-            nonlocal last
-            if time.monotonic() - last < PROGRESS_EVERY_S:
-                return
-            last = time.monotonic()
-            record = self._catalog.get(bag_id)
-            if record is not None and record.status == "ingesting":
-                self._catalog.replace(record.model_copy(update={"progress": round(min(fraction, 0.99), 3)}))
-
-        return report
+    def _progress(self, record: BagRecord) -> Callable[[float, str], None]:
+        """Index building, recorded after whatever share earlier stages (hashing a served file) took."""
+        return progress_recorder(self._catalog, record.id, start=record.progress or 0.0, end=1.0)
 
     def _index(self, record: BagRecord, bag: BagReader) -> tuple[list[str], dict[str, float]]:
         """The bag's columnar index (reused when this process already has a usable one, else built),
@@ -94,7 +101,7 @@ class Ingestor:
         if (existing := ColumnIndex.load(self._files.index_dir(record))) is not None:
             return record.index_files, existing.header_rates()
         with tempfile.TemporaryDirectory(prefix="bagmcp-index-") as tmp:
-            build_index(bag, Path(tmp) / "columns", progress=self._progress(record.id))
+            build_index(bag, Path(tmp) / "columns", progress=self._progress(record))
             built = ColumnIndex.load(Path(tmp) / "columns")
             assert built is not None
             return self._indexes.publish_index(record, Path(tmp) / "columns"), built.header_rates()
