@@ -35,6 +35,9 @@ typecheck: install
 pytest: install
 	$(PY) -m pytest $(PYTEST_ARGS)
 
+unit: install  ## the tests that start no server, on two processes (pytest-xdist): about 25 s
+	$(PY) -m pytest -m 'not integration' -n 2 $(PYTEST_ARGS)
+
 test: lint typecheck pytest  ## everything CI checks
 
 bench: install  ## on demand, not in CI: every tool as MCP calls (embedded, stack) on ~2 GB bags; writes BENCHMARKS.md
