@@ -100,6 +100,28 @@ async def check_correlation(client: Client, bag: str) -> None:
         assert partner["data"]["pose"]["pose"]["position"]["x"] == pytest.approx(x)
 
 
+async def check_extremes(client: Client, bag: str) -> None:
+    """max/min: the messages holding the window's peak, here with the pose at the first of them."""
+    window = [t for t in sc.ticks(sc.CMD_HZ) if 2.0 <= t <= 6.0]
+    peak = max(sc.cmd_speed_at(t) for t in window)
+    at_peak = [t for t in window if sc.cmd_speed_at(t) == peak]
+    top = await search(
+        client, bag=bag, topic="/cmd_vel", condition="max", start=2, end=6, correlate_topic="/odom", limit=1
+    )
+    assert (top["field"], top["total"]) == ("linear.x", len(at_peak))
+    first = top["matches"][0]
+    assert first["value"] == pytest.approx(peak)
+    assert first["time"]["offset_s"] == pytest.approx(at_peak[0])
+    x, y, _ = sc.pose_at(at_peak[0])
+    position = first["correlated"]["data"]["pose"]["pose"]["position"]
+    assert (position["x"], position["y"]) == pytest.approx((x, y))
+    low = await search(client, bag=bag, topic="/cmd_vel", condition="min", field="linear.x")
+    assert low["matches"][0]["value"] == pytest.approx(min(sc.cmd_speed_at(t) for t in sc.ticks(sc.CMD_HZ)))
+    assert "leave out `value`" in await call_error(
+        client, "search_messages", bag=bag, topic="/cmd_vel", condition="max", value=1
+    )
+
+
 async def check_search_errors(client: Client, bag: str) -> None:
     unknown = await call_error(client, "search_messages", bag=bag, topic="/odom", condition="similar", value=1)
     assert "near_position" in unknown
@@ -114,6 +136,7 @@ async def check_search(client: Client, bags: list[str]) -> None:
         await check_near_position(client, bag)
     await check_text_and_numbers(client, bags[0])
     await check_correlation(client, bags[-1])
+    await check_extremes(client, bags[1])
     await check_search_errors(client, bags[0])
     for bag in (bags[0], bags[-1]):  # ROS 1 and ROS 2 levels
         await check_log_levels_by_name(client, bag)

@@ -14,6 +14,7 @@ import httpx
 import pytest
 
 from tests.checks.analysis_checks import check_analysis
+from tests.checks.paper_tasks import check_paper_tasks
 from tests.checks.plot_checks import check_plots, plot
 from tests.checks.search_checks import finished
 from tests.fixtures.bagfactory import BagKind
@@ -72,6 +73,18 @@ async def test_plots_render_on_three_formats_through_the_embedded_server(served:
     async with http_client(f"{served}/mcp", None) as client:
         for bag in NAMES:
             await check_plots(client, bag, next(n for n in NAMES if n != bag))
+
+
+async def test_the_papers_ten_tasks_take_two_calls_each_through_the_embedded_server(served: str) -> None:
+    await _ready(served)
+    async with http_client(f"{served}/mcp", None) as client:
+        for bag in NAMES:
+            await check_paper_tasks(client, bag, NAMES)
+
+
+async def test_the_papers_ten_tasks_take_two_calls_each_through_the_stack(stack: Stack, stack_drive: list[str]) -> None:
+    async with http_client(f"{stack.url}/mcp", TOKEN) as client:
+        await check_paper_tasks(client, stack_drive[-1], stack_drive)
 
 
 async def test_analysis_answers_on_three_formats_through_the_stack(stack: Stack, stack_drive: list[str]) -> None:

@@ -19,12 +19,15 @@ Condition = Literal[
     "greater_than",
     "less_than",
     "between",
+    "max",
+    "min",
     "near_position",
     "field_exists",
 ]
 CONDITIONS: tuple[str, ...] = get_args(Condition)
 TEXT_CONDITIONS = ("contains", "regex")
-NUMERIC_CONDITIONS = ("greater_than", "less_than", "between")
+NUMERIC_CONDITIONS = ("greater_than", "less_than", "between", "max", "min")
+EXTREME_CONDITIONS = ("max", "min")  # the messages holding the window's largest or smallest value; no value
 MAX_PATTERN = 256
 REGEX_TIMEOUT_S = 0.05
 REGEX_BUDGET_S = 5.0
@@ -84,6 +87,8 @@ def check_value(condition: str, value: JsonValue) -> None:
         raise ArgumentError(f"{condition} takes a number, string or boolean, got {value!r}")
     if condition == "between":
         parse_between(value)
+    if condition in EXTREME_CONDITIONS and value is not None:
+        raise ArgumentError(f"{condition} finds the {condition}imum itself; leave out `value`")
     if condition == "near_position":
         parse_near(value)
 

@@ -11,6 +11,7 @@ from pydantic import JsonValue
 
 from bagmcp_bag_store.job_kinds import SearchParams
 from bagmcp_bag_store.query.conditions import (
+    EXTREME_CONDITIONS,
     NUMERIC_CONDITIONS,
     BoundedRegex,
     check_value,
@@ -84,6 +85,10 @@ def _numeric(ob: OpenBag, req: SearchParams, index: ColumnIndex | None, lo: int,
     elif req.condition == "between":
         low, high = parse_between(req.value)
         mask = (values >= low) & (values <= high)
+    elif req.condition in EXTREME_CONDITIONS:
+        finite = np.isfinite(values)
+        extreme = (np.max if req.condition == "max" else np.min)(values[finite]) if finite.any() else np.nan
+        mask = finite & (values == extreme)
     else:
         equal = np.isclose(values, float(req.value), rtol=0.0, atol=1e-9)  # type: ignore[arg-type]
         mask = equal if req.condition == "equals" else ~equal

@@ -20,7 +20,7 @@ from bagmcp_kit.toolsets import BagTools, tool
 Format = Literal["ros1", "ros2-sqlite3", "ros2-mcap"]  # OutputFormat's values, inline in the schema
 ConditionValue = Annotated[
     JsonValue,
-    Field(description="number, text, [low, high] (between) or {x, y, radius} in m (near_position)"),
+    Field(description="number, text, [low, high] (between) or {x, y, radius} m (near_position)"),
 ]
 
 
@@ -51,8 +51,8 @@ class SearchTools(BagTools):
         correlate_topic: Annotated[str | None, Field(description="add its nearest message to matches")] = None,
         correlate_tolerance_s: Annotated[float, Field(gt=0, le=60, description="max time apart")] = 0.1,
     ) -> Annotated[CallToolResult, LongAnswer[SearchResult]]:
-        """Find messages meeting a condition: count, first matches, and for near_position the closest
-        approach even outside the radius. Example: topic=/odom, condition=near_position,
+        """Find messages meeting a condition: count, first matches (max/min: where a field peaks),
+        closest approach for near_position. Example: topic=/odom, condition=near_position,
         value={"x":1,"y":-2,"radius":0.5}."""
         with tool_errors():
             params = params_of(
