@@ -114,12 +114,6 @@ def gateway_server(
     async def on_read_resource(ctx: ServerRequestContext[Any], params: types.ReadResourceRequestParams) -> WireResult:
         return await read_resource(gateway, params.uri)
 
-    def input_schema(tool_name: str) -> dict[str, Any] | None:
-        """For the SDK's check of a call's Mcp-Param headers: without it, the SDK runs (and serializes) a
-        whole tools/list on every tools/call to find this one schema."""
-        tool = gateway.catalog.tool(tool_name)
-        return tool.input_schema if tool is not None else None
-
     server = Server(
         name,
         on_list_tools=on_list_tools,
@@ -128,7 +122,7 @@ def gateway_server(
         on_list_resource_templates=on_list_templates,
         on_read_resource=on_read_resource,  # type: ignore[arg-type]
         on_subscriptions_listen=ListenHandler(bus),
-        get_tool_input_schema=input_schema,
+        get_tool_input_schema=gateway.catalog.header_schema,  # else the SDK lists every tool per call
     )
     server.middleware.append(_instructions_middleware(gateway, instructions))
     server.middleware.append(_relay_middleware(gateway, lambda: server.server_info_stamp))

@@ -15,6 +15,7 @@ from __future__ import annotations
 import logging
 import time
 from dataclasses import dataclass, field
+from typing import Any
 
 import anyio
 import mcp.types as types
@@ -30,6 +31,7 @@ from bagmcp_gateway.resource_routes import ResourceRoutes, UpstreamResources
 from bagmcp_gateway.upstreams import GatewayConfigError, Upstream
 
 log = logging.getLogger(__name__)
+NO_HEADERS: dict[str, Any] = {"type": "object"}
 
 
 @dataclass
@@ -159,6 +161,14 @@ class ToolCatalog:
     def tool(self, name: str) -> types.Tool | None:
         route = self.routes.get(name)
         return route.tool if route is not None else None
+
+    def header_schema(self, name: str) -> dict[str, Any] | None:
+        """What the SDK checks a call's ``Mcp-Param`` headers against: the tool's input schema when it
+        declares such headers, else an empty object schema (the same verdict, without walking the schema)."""
+        route = self.routes.get(name)
+        if route is None:
+            return None
+        return route.tool.input_schema if route.param_headers else NO_HEADERS
 
     def tools_of(self, upstream: Upstream) -> list[types.Tool]:
         """The tools the gateway exposes for ``upstream`` now."""

@@ -1,7 +1,7 @@
 """Long-lived links to the upstreams, so a request costs one exchange, not a new session.
 
 Each upstream's MCP client is owned by a background task (anyio needs a client to be opened and closed
-in one task); request handlers use it. An upstream reached over HTTP that negotiated the stateless
+in one task); request handlers use it. An upstream on plain ``http://`` that negotiated the stateless
 2026-07-28 protocol also gets a ``JsonRpcRelay``: requests whose answers the gateway passes on as they are
 go through it as JSON, without the SDK's models. A request that fails marks the link stale, and the task
 reconnects. While no client is connected, requests open a one-off client.
@@ -45,10 +45,13 @@ class Link:
 
 
 def _relay_for(upstream: Upstream, client: Client) -> JsonRpcRelay | None:
-    if upstream.url is None or client.session.protocol_version not in MODERN_PROTOCOL_VERSIONS:
+    """A relay for an ``http://`` upstream on the 2026-07-28 protocol (the team's own services); others
+    (older servers, ``https://`` ones behind TLS or proxies) are reached through the SDK client."""
+    url = upstream.url
+    if url is None or not url.startswith("http://") or client.session.protocol_version not in MODERN_PROTOCOL_VERSIONS:
         return None
     headers = {"Authorization": f"Bearer {upstream.service_token}"} if upstream.service_token else {}
-    return JsonRpcRelay(upstream.name, upstream.url, headers=headers, timeout_s=upstream.timeout_s)
+    return JsonRpcRelay(upstream.name, url, headers=headers, timeout_s=upstream.timeout_s)
 
 
 def _sole(group: ExceptionGroup[Exception]) -> Exception:

@@ -10,12 +10,12 @@ whose ``notifications/progress`` are handed to ``progress`` until the response a
 
 from __future__ import annotations
 
+import codecs
 import itertools
 import json
-from collections.abc import Awaitable, Callable, Mapping
+from collections.abc import AsyncIterator, Awaitable, Callable, Mapping
 from typing import Any
 
-import httpx2
 from mcp import MCPError
 from mcp.shared.inbound import (
     MCP_METHOD_HEADER,
@@ -26,6 +26,8 @@ from mcp.shared.inbound import (
 )
 from mcp.types import CLIENT_CAPABILITIES_META_KEY, CLIENT_INFO_META_KEY, INTERNAL_ERROR, PROTOCOL_VERSION_META_KEY
 from mcp_types.version import MODERN_PROTOCOL_VERSIONS
+
+from bagmcp_gateway.http_link import HttpLink
 
 Progress = Callable[[float, float | None, str | None], Awaitable[None]]
 PROTOCOL_VERSION = MODERN_PROTOCOL_VERSIONS[-1]
@@ -63,17 +65,30 @@ async def _progressed(params: object, token: int, progress: Progress) -> None:
         await progress(float(done), total_n, message if isinstance(message, str) else None)
 
 
+async def _events(chunks: AsyncIterator[bytes]) -> AsyncIterator[str]:
+    """The ``data`` of each server-sent event in a stream (its lines joined), as they arrive."""
+    pending, data, text = "", list[str](), codecs.getincrementaldecoder("utf-8")()
+    async for chunk in chunks:
+        pending += text.decode(chunk)
+        *lines, pending = pending.split("\n")
+        for line in (raw.rstrip("\r") for raw in lines):
+            if line.startswith("data:"):
+                data.append(line[5:].removeprefix(" "))
+            elif not line and data:
+                yield "\n".join(data)
+                data = []
+
+
 class JsonRpcRelay:
-    """One upstream's HTTP endpoint (``url``), with a pooled HTTP client; ``close`` when done."""
+    """One upstream's ``http://`` endpoint (``url``), over kept-alive connections; ``close`` when done."""
 
     def __init__(self, name: str, url: str, *, headers: Mapping[str, str], timeout_s: float) -> None:
         self._name = name
-        self._url = url
         self._ids = itertools.count(1)
-        self._http = httpx2.AsyncClient(headers=dict(headers), timeout=httpx2.Timeout(timeout_s, read=None))
+        self._link = HttpLink(url, headers=headers, connect_timeout_s=timeout_s)
 
     async def close(self) -> None:
-        await self._http.aclose()
+        await self._link.close()
 
     def _request(
         self, method: str, params: Mapping[str, Any], meta: Mapping[str, Any]
@@ -107,23 +122,20 @@ class JsonRpcRelay:
         progress: Progress | None = None,
     ) -> dict[str, Any]:
         """The result of ``method`` with ``params`` (``meta`` added to the envelope, ``headers`` to the routing
-        headers); MCPError for an error answer; httpx2 errors when the upstream cannot be reached."""
+        headers); MCPError for an error answer; OSError when the upstream cannot be reached."""
         rid, body, sent = self._request(method, params, meta)
         sent.update(headers or {})
-        async with self._http.stream("POST", self._url, content=body, headers=sent) as response:
-            kind = response.headers.get("content-type", "").partition(";")[0].strip().lower()
-            if kind == "text/event-stream":
-                return await self._streamed(response, rid, progress)
-            message = _decoded(await response.aread(), upstream=self._name)
-            if "error" not in message and response.status_code != 200:
-                raise MCPError(INTERNAL_ERROR, f"the {self._name} service answered HTTP {response.status_code}")
+        async with self._link.post(body, sent) as answer:
+            if answer.content_type == "text/event-stream":
+                return await self._streamed(_events(answer.chunks()), rid, progress)
+            message = _decoded(await answer.read(), upstream=self._name)
+            if "error" not in message and answer.status != 200:
+                raise MCPError(INTERNAL_ERROR, f"the {self._name} service answered HTTP {answer.status}")
             return _result(message, upstream=self._name)
 
-    async def _streamed(self, response: httpx2.Response, rid: int, progress: Progress | None) -> dict[str, Any]:
-        async for event in httpx2.EventSource(response):
-            if not event.data:
-                continue
-            message = _decoded(event.data, upstream=self._name)
+    async def _streamed(self, events: AsyncIterator[str], rid: int, progress: Progress | None) -> dict[str, Any]:
+        async for data in events:
+            message = _decoded(data, upstream=self._name)
             if message.get("id") == rid:
                 return _result(message, upstream=self._name)
             if progress is not None and message.get("method") == "notifications/progress":
