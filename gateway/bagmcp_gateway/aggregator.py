@@ -50,13 +50,17 @@ def _instructions_middleware(gateway: Gateway, configured: str | None) -> Any:
     return with_instructions
 
 
-def _relayed(result: WireResult, stamp: dict[str, Any]) -> WireResult:
-    """An upstream's answer as this server's 2026-07-28 result: complete, and stamped as coming from here."""
+def _relayed(result: WireResult, stamp: dict[str, Any] | None) -> WireResult:
+    """An upstream's answer as this server's: without the upstream's identity stamp, and for a 2026-07-28
+    caller (``stamp`` given) complete and stamped as coming from here."""
     meta = result.get("_meta")
+    kept = {k: v for k, v in meta.items() if k != types.SERVER_INFO_META_KEY} if isinstance(meta, dict) else {}
+    if stamp is None:
+        return {**result, "_meta": kept} if kept else {k: v for k, v in result.items() if k != "_meta"}
     return {
         **result,
         "resultType": result.get("resultType", "complete"),
-        "_meta": {**(meta if isinstance(meta, dict) else {}), types.SERVER_INFO_META_KEY: stamp},
+        "_meta": {**kept, types.SERVER_INFO_META_KEY: stamp},
     }
 
 
@@ -99,7 +103,7 @@ def gateway_server(
 
     async def on_call_tool(ctx: ServerRequestContext[Any], params: types.CallToolRequestParams) -> WireResult:
         """Callers of older protocol versions (the SDK shapes the answer for theirs)."""
-        return await call_tool(gateway, ctx, params.name, params.arguments or {})
+        return _relayed(await call_tool(gateway, ctx, params.name, params.arguments or {}), None)
 
     async def on_list_resources(
         ctx: ServerRequestContext[Any], params: types.PaginatedRequestParams | None
@@ -112,7 +116,7 @@ def gateway_server(
         return await list_templates(gateway)
 
     async def on_read_resource(ctx: ServerRequestContext[Any], params: types.ReadResourceRequestParams) -> WireResult:
-        return await read_resource(gateway, params.uri)
+        return _relayed(await read_resource(gateway, params.uri), None)
 
     server = Server(
         name,
