@@ -12,7 +12,7 @@ on older protocol versions go through the SDK's handlers, which shape the answer
 from __future__ import annotations
 
 import contextlib
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from typing import Any
 
 import mcp.types as types
@@ -76,7 +76,9 @@ async def _relay(gateway: Gateway, ctx: ServerRequestContext[Any], params: Mappi
     return None
 
 
-def _relay_middleware(gateway: Gateway, stamp: Any) -> Any:
+def _relay_middleware(gateway: Gateway, stamp: Callable[[], dict[str, Any]]) -> Any:
+    """Answer a 2026-07-28 caller's tools/call and resources/read with the upstream's result as it came."""
+
     async def relayed(ctx: ServerRequestContext[Any], call_next: CallNext) -> HandlerResult:
         if ctx.protocol_version in MODERN_PROTOCOL_VERSIONS:
             answer = await _relay(gateway, ctx, ctx.params or {})
