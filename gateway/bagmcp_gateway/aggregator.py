@@ -1,151 +1,35 @@
 """The gateway's MCP server: one tool list from every upstream (as the caller may see it), calls checked
-again, rate limited, routed to their upstream with progress relayed, capped, audited and counted, and
-one instructions text (the upstreams' own, each sentence once, or the configured one).
+again and routed (calls.py), the upstreams' resources listed and read (reads.py), and one instructions
+text (the upstreams' own, each sentence once, or the configured one).
 
-Built on the low-level SDK server so upstream input and output schemas pass through unchanged.
+Built on the low-level SDK server so upstream schemas and answers pass through unchanged. A caller on the
+2026-07-28 protocol gets a tool answer or a read result as the upstream sent it (in its wire form, stamped
+with the gateway's identity): parsing it into SDK models and checking them again before dumping them would
+be most of the gateway's own time per call, and the caller's client validates the answer anyway. Callers
+on older protocol versions go through the SDK's handlers, which shape the answer for their version.
 """
 
 from __future__ import annotations
 
 import contextlib
-import json
-import logging
-import time
-from dataclasses import dataclass, field
+from collections.abc import Callable, Mapping
 from typing import Any
 
-import anyio
 import mcp.types as types
 from mcp import MCPError
 from mcp.server import Server, ServerRequestContext
 from mcp.server.auth.middleware.auth_context import get_access_token
-from mcp.server.auth.provider import AccessToken
 from mcp.server.context import CallNext, HandlerResult
 from mcp.server.subscriptions import InMemorySubscriptionBus, ListenHandler, SubscriptionBus
+from mcp_types.version import MODERN_PROTOCOL_VERSIONS
 
-from bagmcp_gateway.answers import DEFAULT_MAX_CHARS, cap_answer, error_result
-from bagmcp_gateway.audit import AuditLog, AuditRecord
+from bagmcp_gateway.answers import WireResult
+from bagmcp_gateway.calls import call_tool
 from bagmcp_gateway.catalog import ToolCatalog
 from bagmcp_gateway.connections import Connections
-from bagmcp_gateway.metrics import GatewayMetrics
-from bagmcp_gateway.policy import ToolPolicy
-from bagmcp_gateway.ratelimit import RateLimiter, retry_after_s
+from bagmcp_gateway.gateway import Gateway as Gateway  # re-exported: app.py builds one
+from bagmcp_gateway.reads import list_resources, list_templates, read_resource
 from bagmcp_gateway.upstreams import GatewayConfigError, Upstream
-from bagmcp_kit.identity import LOCAL_CALLER, OWNER_META_KEY
-
-log = logging.getLogger(__name__)
-
-
-@dataclass
-class Gateway:
-    """Everything a call goes through; ``limiter`` and ``audit`` None switch those off."""
-
-    catalog: ToolCatalog
-    connections: Connections
-    policy: ToolPolicy = field(default_factory=ToolPolicy)
-    limiter: RateLimiter | None = None
-    audit: AuditLog | None = None
-    metrics: GatewayMetrics = field(default_factory=GatewayMetrics)
-    max_answer_chars: int = DEFAULT_MAX_CHARS
-    audit_arguments: bool = False
-    listed: bool = False
-
-    async def tools(self) -> list[types.Tool]:
-        if not self.listed:  # in-process use (stdio, tests) lists on need until every upstream answered once
-            await self.catalog.refresh_all()
-            self.catalog.check_startup()
-            self.listed = all(state.up for state in self.catalog.states.values())
-        return self.catalog.tools
-
-
-def _who(caller: AccessToken | None) -> str:
-    return caller.client_id if caller is not None else LOCAL_CALLER
-
-
-async def _forward(
-    gateway: Gateway,
-    ctx: ServerRequestContext[Any],
-    upstream: Upstream,
-    original: str,
-    arguments: dict[str, Any],
-    who: str,
-) -> types.CallToolResult:
-    async def relay(progress: float, total: float | None, message: str | None) -> None:
-        await ctx.session.report_progress(progress, total, message)
-
-    with anyio.fail_after(upstream.call_timeout_s):
-        async with gateway.connections.client(upstream) as client:
-            return await client.call_tool(original, arguments, progress_callback=relay, meta={OWNER_META_KEY: who})  # type: ignore[arg-type]
-
-
-async def call_tool(
-    gateway: Gateway, ctx: ServerRequestContext[Any], params: types.CallToolRequestParams
-) -> types.CallToolResult:
-    caller = get_access_token()
-    who = _who(caller)
-    arguments = params.arguments or {}
-    began = time.perf_counter()
-    record = AuditRecord(
-        token=who, tool=params.name, upstream=None, request_bytes=len(json.dumps(arguments, default=str))
-    )
-    if gateway.audit_arguments:
-        record.arguments = dict(arguments)
-    result = await _checked_call(gateway, ctx, params.name, arguments, caller, record)
-    record.duration_ms = round((time.perf_counter() - began) * 1000, 3)
-    record.response_bytes = sum(len(c.text) for c in result.content if isinstance(c, types.TextContent))
-    gateway.metrics.record(params.name, record.upstream or "-", record.outcome, time.perf_counter() - began)
-    if gateway.audit is not None:
-        gateway.audit.write(record)
-    return result
-
-
-async def _checked_call(
-    gateway: Gateway,
-    ctx: ServerRequestContext[Any],
-    name: str,
-    arguments: dict[str, Any],
-    caller: AccessToken | None,
-    record: AuditRecord,
-) -> types.CallToolResult:
-    await gateway.tools()
-    tool, route = gateway.catalog.tool(name), gateway.catalog.routes.get(name)
-    if tool is None or route is None:
-        gone = gateway.catalog.known.get(name)
-        record.outcome, record.upstream = ("unavailable", gone.name) if gone else ("unknown_tool", None)
-        if gone is not None:
-            return error_result(
-                f"the {gone.name} service is unavailable right now, so {name} cannot run; try again shortly"
-            )
-        down = ", ".join(n for n, state in gateway.catalog.states.items() if not state.up) or "none"
-        return error_result(f"Unknown tool: {name} (services unavailable right now: {down})")
-    upstream, original = route
-    record.upstream = upstream.name
-    if not gateway.policy.allows(tool, caller):
-        record.outcome = "denied"
-        return error_result(f"{name} is not enabled for this token (its profile, allow/deny lists or scopes)")
-    if gateway.limiter is not None and (wait := await anyio.to_thread.run_sync(gateway.limiter.take, _who(caller))):
-        record.outcome = "rate_limited"
-        after = retry_after_s(wait)
-        return error_result(f"rate limit reached for this token; retry after {after} s", retryAfterSeconds=after)
-    try:
-        result = await _forward(gateway, ctx, upstream, original, arguments, _who(caller))
-    except TimeoutError:
-        log.warning("call of %s on %s timed out after %s s", original, upstream.name, upstream.call_timeout_s)
-        gateway.catalog.failed(upstream)
-        record.outcome = "unavailable"
-        return error_result(
-            f"the {upstream.name} service did not answer {name} within {upstream.call_timeout_s:g} s (its time "
-            "limit); ask for less work, or try again later"
-        )
-    except Exception as err:  # transport failure: the tool is there but its service is not
-        log.warning("call of %s on %s failed: %s", original, upstream.name, err)
-        gateway.catalog.failed(upstream)
-        record.outcome = "unavailable"
-        return error_result(
-            f"the {upstream.name} service is unavailable right now ({type(err).__name__}); try again shortly"
-        )
-    record.outcome = "error" if result.is_error else "ok"
-    return cap_answer(result, max_chars=gateway.max_answer_chars)
 
 
 def _instructions_middleware(gateway: Gateway, configured: str | None) -> Any:
@@ -166,6 +50,45 @@ def _instructions_middleware(gateway: Gateway, configured: str | None) -> Any:
     return with_instructions
 
 
+def _relayed(result: WireResult, stamp: dict[str, Any] | None) -> WireResult:
+    """An upstream's answer as this server's: without the upstream's identity stamp, and for a 2026-07-28
+    caller (``stamp`` given) complete and stamped as coming from here."""
+    meta = result.get("_meta")
+    kept = {k: v for k, v in meta.items() if k != types.SERVER_INFO_META_KEY} if isinstance(meta, dict) else {}
+    if stamp is None:
+        return {**result, "_meta": kept} if kept else {k: v for k, v in result.items() if k != "_meta"}
+    return {
+        **result,
+        "resultType": result.get("resultType", "complete"),
+        "_meta": {**kept, types.SERVER_INFO_META_KEY: stamp},
+    }
+
+
+async def _relay(gateway: Gateway, ctx: ServerRequestContext[Any], params: Mapping[str, Any]) -> WireResult | None:
+    """The answer of a tools/call or resources/read relayed in its wire form; None for anything else (or
+    params the SDK should reject with its own error)."""
+    if ctx.method == "tools/call":
+        name, arguments = params.get("name"), params.get("arguments")
+        if isinstance(name, str) and isinstance(arguments, dict | None):
+            return await call_tool(gateway, ctx, name, arguments or {})
+    if ctx.method == "resources/read" and isinstance(uri := params.get("uri"), str):
+        return await read_resource(gateway, uri)
+    return None
+
+
+def _relay_middleware(gateway: Gateway, stamp: Callable[[], dict[str, Any]]) -> Any:
+    """Answer a 2026-07-28 caller's tools/call and resources/read with the upstream's result as it came."""
+
+    async def relayed(ctx: ServerRequestContext[Any], call_next: CallNext) -> HandlerResult:
+        if ctx.protocol_version in MODERN_PROTOCOL_VERSIONS:
+            answer = await _relay(gateway, ctx, ctx.params or {})
+            if answer is not None:
+                return _relayed(answer, stamp())
+        return await call_next(ctx)
+
+    return relayed
+
+
 def gateway_server(
     gateway: Gateway, bus: SubscriptionBus, *, name: str = "bagmcp", instructions: str | None = None
 ) -> Server[Any]:
@@ -180,23 +103,35 @@ def gateway_server(
             raise MCPError(types.INTERNAL_ERROR, f"gateway configuration error: {err}") from err
         return types.ListToolsResult(tools=gateway.policy.shown(tools, get_access_token()))
 
-    async def on_call_tool(ctx: ServerRequestContext[Any], params: types.CallToolRequestParams) -> types.CallToolResult:
-        return await call_tool(gateway, ctx, params)
+    async def on_call_tool(ctx: ServerRequestContext[Any], params: types.CallToolRequestParams) -> WireResult:
+        """Callers of older protocol versions (the SDK shapes the answer for theirs)."""
+        return _relayed(await call_tool(gateway, ctx, params.name, params.arguments or {}), None)
 
-    def input_schema(tool_name: str) -> dict[str, Any] | None:
-        """For the SDK's check of a call's Mcp-Param headers: without it, the SDK runs (and serializes) a
-        whole tools/list on every tools/call to find this one schema."""
-        tool = gateway.catalog.tool(tool_name)
-        return tool.input_schema if tool is not None else None
+    async def on_list_resources(
+        ctx: ServerRequestContext[Any], params: types.PaginatedRequestParams | None
+    ) -> types.ListResourcesResult:
+        return await list_resources(gateway)
+
+    async def on_list_templates(
+        ctx: ServerRequestContext[Any], params: types.PaginatedRequestParams | None
+    ) -> types.ListResourceTemplatesResult:
+        return await list_templates(gateway)
+
+    async def on_read_resource(ctx: ServerRequestContext[Any], params: types.ReadResourceRequestParams) -> WireResult:
+        return _relayed(await read_resource(gateway, params.uri), None)
 
     server = Server(
         name,
         on_list_tools=on_list_tools,
-        on_call_tool=on_call_tool,
+        on_call_tool=on_call_tool,  # type: ignore[arg-type]  # a wire-form dict: the SDK validates it
+        on_list_resources=on_list_resources,
+        on_list_resource_templates=on_list_templates,
+        on_read_resource=on_read_resource,  # type: ignore[arg-type]
         on_subscriptions_listen=ListenHandler(bus),
-        get_tool_input_schema=input_schema,
+        get_tool_input_schema=gateway.catalog.header_schema,  # else the SDK lists every tool per call
     )
     server.middleware.append(_instructions_middleware(gateway, instructions))
+    server.middleware.append(_relay_middleware(gateway, lambda: server.server_info_stamp))
     return server
 
 

@@ -1,19 +1,19 @@
-"""One structured record per tool call (who, tool, upstream, duration, outcome, sizes; argument values
-only when configured), written as JSON lines by a background thread, off the request path."""
+"""One structured record per tool call or resource read (who, tool, upstream, duration, outcome, sizes;
+argument values only when configured), written as JSON lines by a background thread, off the request path."""
 
 from __future__ import annotations
 
 import json
 import logging
-import logging.handlers
 import queue
 import sys
+import threading
 import time
 from dataclasses import asdict, dataclass, field
-from typing import Literal
+from typing import Literal, TextIO
 
-Outcome = Literal["ok", "error", "denied", "rate_limited", "unavailable", "unknown_tool"]
-AUDIT_LOGGER = "bagmcp.audit"
+Outcome = Literal["ok", "error", "denied", "rate_limited", "unavailable", "unknown_tool", "unknown_resource"]
+log = logging.getLogger(__name__)
 
 
 @dataclass
@@ -29,29 +29,33 @@ class AuditRecord:
     ts: float = field(default_factory=time.time)
 
 
-class _JsonLines(logging.Formatter):
-    def format(self, record: logging.LogRecord) -> str:
-        body = getattr(record, "audit", None)
-        return json.dumps(body, default=str, separators=(",", ":")) if isinstance(body, dict) else record.getMessage()
+def _line(record: AuditRecord) -> str:
+    body = {k: v for k, v in asdict(record).items() if v is not None}
+    return json.dumps(body, default=str, separators=(",", ":")) + "\n"
 
 
 class AuditLog:
-    """``stream`` None writes to stderr. ``close`` flushes what is queued."""
+    """``stream`` None writes to stderr. ``close`` writes what is queued, then stops the writer.
 
-    def __init__(self, *, stream: object | None = None) -> None:
-        self._queue: queue.SimpleQueue[logging.LogRecord] = queue.SimpleQueue()
-        handler = logging.StreamHandler(stream or sys.stderr)  # type: ignore[arg-type]
-        handler.setFormatter(_JsonLines())
-        self._listener = logging.handlers.QueueListener(self._queue, handler)
-        self._logger = logging.getLogger(f"{AUDIT_LOGGER}.{id(self)}")
-        self._logger.propagate = False
-        self._logger.setLevel(logging.INFO)
-        self._logger.addHandler(logging.handlers.QueueHandler(self._queue))
-        self._listener.start()
+    The request path only queues the record; a background thread turns it into a JSON line and writes it."""
+
+    def __init__(self, *, stream: TextIO | None = None) -> None:
+        self._stream = stream or sys.stderr
+        self._queue: queue.SimpleQueue[AuditRecord | None] = queue.SimpleQueue()
+        self._writer = threading.Thread(target=self._write_all, name="bagmcp-audit", daemon=True)
+        self._writer.start()
+
+    def _write_all(self) -> None:
+        while (record := self._queue.get()) is not None:
+            try:
+                self._stream.write(_line(record))
+                self._stream.flush()
+            except (OSError, ValueError) as err:  # a closed or full stream: say so once per record, keep going
+                log.warning("audit record not written: %s", err)
 
     def write(self, record: AuditRecord) -> None:
-        body = {k: v for k, v in asdict(record).items() if v is not None}
-        self._logger.info("audit", extra={"audit": body})
+        self._queue.put(record)
 
     def close(self) -> None:
-        self._listener.stop()
+        self._queue.put(None)
+        self._writer.join(timeout=10)

@@ -1,5 +1,5 @@
-"""The gateway's view of its upstreams: which are up, the tools each publishes and what its
-instructions say, refreshed in the background so tools/list never waits for an upstream: when an
+"""The gateway's view of its upstreams: which are up, the tools and resources each publishes and what
+its instructions say, refreshed in the background so tools/list never waits for an upstream: when an
 upstream announces that its tools changed (a ``subscriptions/listen`` stream kept open to each), after
 a failed call, when the bus carries a change another replica noticed, and by polling as a backstop.
 
@@ -7,6 +7,7 @@ A down upstream's tools leave the list until it is back; every change is publish
 ``tools/list_changed`` event. Tool order is deterministic: upstreams in configuration order, each
 upstream's tools in its own order. A name two upstreams publish is a configuration error: at start-up
 the gateway refuses to start; later (an upstream that was down at start) the newcomer's tool is left out.
+Resources follow resource_routes.py.
 """
 
 from __future__ import annotations
@@ -14,19 +15,23 @@ from __future__ import annotations
 import logging
 import time
 from dataclasses import dataclass, field
+from typing import Any
 
 import anyio
 import mcp.types as types
 from anyio.abc import TaskStatus
-from mcp import MCPError
+from mcp import Client, MCPError
 from mcp.client.subscriptions import ListenNotSupportedError
-from mcp.server.subscriptions import ServerEvent, SubscriptionBus, ToolsListChanged
+from mcp.server.subscriptions import ResourcesListChanged, ServerEvent, SubscriptionBus, ToolsListChanged
+from mcp.shared.inbound import x_mcp_header_map
 
 from bagmcp_gateway.connections import Connections
 from bagmcp_gateway.instructions import merged_instructions
+from bagmcp_gateway.resource_routes import ResourceRoutes, UpstreamResources
 from bagmcp_gateway.upstreams import GatewayConfigError, Upstream
 
 log = logging.getLogger(__name__)
+NO_HEADERS: dict[str, Any] = {"type": "object"}
 
 
 @dataclass
@@ -36,6 +41,32 @@ class UpstreamState:
     tools: list[types.Tool] = field(default_factory=list)
     since: float = field(default_factory=time.time)
     instructions: str | None = None
+    resources: UpstreamResources = field(default_factory=UpstreamResources)
+
+
+@dataclass(frozen=True)
+class ToolRoute:
+    """A tool as the gateway exposes it, where it goes, and the ``Mcp-Param`` headers its schema asks for."""
+
+    tool: types.Tool
+    upstream: Upstream
+    original: str
+    param_headers: dict[tuple[str, ...], str] = field(default_factory=dict)
+
+
+async def _resources_of(client: Client) -> UpstreamResources:
+    """What the upstream publishes as resources (nothing when it offers none)."""
+    capabilities = client.session.server_capabilities
+    if capabilities is None or capabilities.resources is None:
+        return UpstreamResources()
+    try:
+        resources = (await client.list_resources()).resources
+        templates = (await client.list_resource_templates()).resource_templates
+    except MCPError as err:
+        if err.code != types.METHOD_NOT_FOUND:
+            raise
+        return UpstreamResources()
+    return UpstreamResources(list(resources), list(templates))
 
 
 class ToolCatalog:
@@ -55,37 +86,39 @@ class ToolCatalog:
         self._retry_s = retry_s
         self.states = {u.name: UpstreamState() for u in upstreams}
         self.tools: list[types.Tool] = []
-        self.routes: dict[str, tuple[Upstream, str]] = {}
+        self.routes: dict[str, ToolRoute] = {}
+        self.resources = ResourceRoutes()
         self.known: dict[str, Upstream] = {}  # every name an upstream ever published: for "unavailable" errors
         self.conflicts: list[str] = []
         self.instructions: str | None = None
         self._wake = anyio.Event()
         bus.subscribe(self._heard)  # a change another replica noticed: re-list here too
 
-    async def _list(self, upstream: Upstream) -> tuple[list[types.Tool], str | None]:
+    async def _list(self, upstream: Upstream) -> UpstreamState:
         with anyio.fail_after(upstream.timeout_s):
             async with self._connections.client(upstream) as client:
-                return list((await client.list_tools()).tools), client.instructions
+                tools = list((await client.list_tools()).tools)
+                return UpstreamState(
+                    True, None, tools, instructions=client.instructions, resources=await _resources_of(client)
+                )
 
     async def refresh(self, upstream: Upstream) -> None:
         state = self.states[upstream.name]
         try:
-            tools, instructions = await self._list(upstream)
+            listed = await self._list(upstream)
         except Exception as err:  # any failure means down; the others go on
             if state.up or state.error is None:
                 log.warning("upstream %s is unavailable: %s", upstream.name, err)
             self.states[upstream.name] = UpstreamState(False, f"{type(err).__name__}: {err}", [], time.time())
             return
-        names = [t.name for t in tools]
-        if not state.up or names != [t.name for t in state.tools]:
-            log.info("upstream %s is up with %d tools", upstream.name, len(tools))
-        self.states[upstream.name] = UpstreamState(
-            True, None, tools, state.since if state.up else time.time(), instructions
-        )
+        if not state.up or [t.name for t in listed.tools] != [t.name for t in state.tools]:
+            log.info("upstream %s is up with %d tools", upstream.name, len(listed.tools))
+        listed.since = state.since if state.up else time.time()
+        self.states[upstream.name] = listed
 
     async def refresh_all(self) -> bool:
         """List every upstream at once; True when the tool list changed."""
-        before = [t.name for t in self.tools]
+        before, resources_before = [t.name for t in self.tools], self.resources.uris()
         async with anyio.create_task_group() as group:
             for upstream in self.upstreams:
                 group.start_soon(self.refresh, upstream)
@@ -93,25 +126,30 @@ class ToolCatalog:
         changed = before != [t.name for t in self.tools]
         if changed:
             await self._bus.publish(ToolsListChanged())
+        if resources_before != self.resources.uris():
+            await self._bus.publish(ResourcesListChanged())
         return changed
 
     def _rebuild(self) -> None:
         tools: list[types.Tool] = []
-        routes: dict[str, tuple[Upstream, str]] = {}
+        routes: dict[str, ToolRoute] = {}
         conflicts: list[str] = []
         for upstream in self.upstreams:
             for tool in self.states[upstream.name].tools:
                 name = upstream.exposed(tool.name)
                 if name in routes:
                     conflicts.append(
-                        f"tool {name!r} is published by {routes[name][0].name} and {upstream.name}; "
+                        f"tool {name!r} is published by {routes[name].upstream.name} and {upstream.name}; "
                         f"give one of them a prefix in BAGMCP_UPSTREAMS (name=url@prefix)"
                     )
                     continue
-                routes[name] = (upstream, tool.name)
+                exposed = tool.model_copy(update={"name": name})
+                routes[name] = ToolRoute(exposed, upstream, tool.name, x_mcp_header_map(tool.input_schema))
                 self.known[name] = upstream
-                tools.append(tool.model_copy(update={"name": name}))
+                tools.append(exposed)
         self.tools, self.routes, self.conflicts = tools, routes, conflicts
+        up = [(u, self.states[u.name].resources) for u in self.upstreams if self.states[u.name].up]
+        self.resources = ResourceRoutes.build(up)
         self.instructions = merged_instructions([s.instructions for s in self.states.values() if s.up])
         for message in conflicts:
             log.error("gateway configuration error: %s", message)
@@ -121,7 +159,20 @@ class ToolCatalog:
             raise GatewayConfigError("; ".join(self.conflicts))
 
     def tool(self, name: str) -> types.Tool | None:
-        return next((t for t in self.tools if t.name == name), None)
+        route = self.routes.get(name)
+        return route.tool if route is not None else None
+
+    def header_schema(self, name: str) -> dict[str, Any] | None:
+        """What the SDK checks a call's ``Mcp-Param`` headers against: the tool's input schema when it
+        declares such headers, else an empty object schema (the same verdict, without walking the schema)."""
+        route = self.routes.get(name)
+        if route is None:
+            return None
+        return route.tool.input_schema if route.param_headers else NO_HEADERS
+
+    def tools_of(self, upstream: Upstream) -> list[types.Tool]:
+        """The tools the gateway exposes for ``upstream`` now."""
+        return [route.tool for route in self.routes.values() if route.upstream.name == upstream.name]
 
     def failed(self, upstream: Upstream) -> None:
         """A call to ``upstream`` failed in transport: re-list soon instead of at the next poll."""

@@ -1,5 +1,10 @@
 """Which tools a caller sees and may call: the gateway's global enable list, the token's profile and its
-allow/deny globs, and the scope a tool needs. Checked in tools/list and again in tools/call."""
+allow/deny globs, and the scope a tool needs. Checked in tools/list and again in tools/call. The glob
+decisions are pure functions of names and lists, so they are remembered (a call matches no glob again).
+
+Resources follow the tools: an upstream's resources are readable (and listed) for a caller holding the
+``read`` scope that may call at least one of that upstream's tools. A token that may not call any plotting
+tool cannot read plot artifacts either."""
 
 from __future__ import annotations
 
@@ -7,6 +12,7 @@ import json
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from fnmatch import fnmatchcase
+from functools import lru_cache
 
 import mcp.types as types
 from mcp.server.auth.provider import AccessToken
@@ -43,6 +49,18 @@ def _any(name: str, globs: Sequence[str]) -> bool:
     return any(fnmatchcase(name, g) for g in globs)
 
 
+@lru_cache(maxsize=8192)
+def _enabled(name: str, enabled: tuple[str, ...], disabled: tuple[str, ...]) -> bool:
+    return _any(name, enabled) and not _any(name, disabled)
+
+
+@lru_cache(maxsize=8192)
+def _granted(name: str, profile: tuple[str, ...] | None, allow: tuple[str, ...], deny: tuple[str, ...]) -> bool:
+    if profile is not None and not _any(name, profile):
+        return False
+    return not ((allow and not _any(name, allow)) or _any(name, deny))
+
+
 def needed_scope(tool: types.Tool) -> str:
     """Tools that create things (not read-only, not destructive: filter_bag) need ``upload``; the rest ``read``."""
     hints = tool.annotations
@@ -62,19 +80,22 @@ class ToolPolicy:
 
     def allows(self, tool: types.Tool, caller: AccessToken | None) -> bool:
         """Whether ``caller`` (None: no authentication, a local user) may see and call ``tool``."""
-        name = tool.name
-        if not _any(name, self.enabled) or _any(name, self.disabled):
+        if not _enabled(tool.name, self.enabled, self.disabled):
             return False
         if caller is None:
             return True
         claims = caller.claims or {}
         profile = self.profile_of(caller)
-        if profile is not None and not _any(name, profile.tools):
-            return False
-        allow, deny = list(claims.get("allow") or []), list(claims.get("deny") or [])
-        if (allow and not _any(name, allow)) or _any(name, deny):
+        allow, deny = tuple(claims.get("allow") or ()), tuple(claims.get("deny") or ())
+        if not _granted(tool.name, profile.tools if profile is not None else None, allow, deny):
             return False
         return needed_scope(tool) in caller.scopes
+
+    def may_read(self, upstream_tools: Sequence[types.Tool], caller: AccessToken | None) -> bool:
+        """Whether ``caller`` may list and read the resources of the upstream publishing ``upstream_tools``."""
+        if caller is not None and "read" not in caller.scopes:
+            return False
+        return any(self.allows(tool, caller) for tool in upstream_tools)
 
     def shown(self, tools: Sequence[types.Tool], caller: AccessToken | None) -> list[types.Tool]:
         """The tools ``caller`` may use, as its profile lists them."""

@@ -25,8 +25,8 @@ class GatewayConfigError(BagmcpError):
 class Upstream:
     """One upstream MCP server. Exactly one of ``url`` (team mode) or ``server`` (embedded) is set.
 
-    ``prefix`` is prepended to its tool names (``prefix__tool``); it is only needed when two
-    upstreams publish a tool of the same name.
+    ``prefix`` is prepended to its tool names (``prefix__tool``) and resource URIs (``prefix+uri``); it is
+    only needed when two upstreams publish a tool of the same name.
     """
 
     name: str
@@ -45,6 +45,16 @@ class Upstream:
 
     def exposed(self, tool: str) -> str:
         return f"{self.prefix}__{tool}" if self.prefix else tool
+
+    def exposed_uri(self, uri: str) -> str:
+        return f"{self.prefix}+{uri}" if self.prefix else uri
+
+    def original_uri(self, exposed: str) -> str | None:
+        """The URI this upstream knows for ``exposed``, or None when ``exposed`` is not one of its own."""
+        if not self.prefix:
+            return exposed
+        head = f"{self.prefix}+"
+        return exposed[len(head) :] if exposed.startswith(head) else None
 
     @asynccontextmanager
     async def client(self, *, listening: bool = False) -> AsyncIterator[Client]:

@@ -46,16 +46,16 @@ class LongWork:
         """The tool's answer: ``{"result": ...}`` when the work is done in time, else ``{"job": ...}``.
 
         ``small`` (run in a thread) says whether the work is quick enough to do inline, without a job;
-        ``attach`` (run in a thread) adds content for a finished result, such as its image."""
+        ``attach`` adds content for a finished result, such as its image (in the thread that builds the answer)."""
         with tool_errors():
             inline = small is not None and await anyio.to_thread.run_sync(small, params)
         if inline:
             with tool_errors():
                 raw = await anyio.to_thread.run_sync(self._registry.run, kind.name, kind.dump(params), Unreported())
-            return await self._finished(kind.result.model_validate(raw), summarize, attach)
+            return await self._finished(kind, raw, summarize, attach)
         job = await self.start(ctx, kind, params)
         if job.state == "succeeded" and job.result is not None:
-            return await self._finished(kind.result.model_validate(job.result), summarize, attach)
+            return await self._finished(kind, job.result, summarize, attach)
         return self._unfinished(job)
 
     async def start(self, ctx: Context, kind: JobKind[P, R], params: P) -> Job:
@@ -82,10 +82,19 @@ class LongWork:
     def _wait(self, job_id: str, seen: float, remaining_s: float) -> Job | None:
         return self._jobs.wait(job_id, newer_than=seen, timeout_s=max(remaining_s, 0.0))
 
-    async def _finished(self, result: R, summarize: Callable[[R], str], attach: Attach[R] | None) -> CallToolResult:
-        with tool_errors():
-            extra = await anyio.to_thread.run_sync(attach, result) if attach is not None else []
-        return answer(LongAnswer[R](result=result), summarize(result), extra=extra, omit_none=True)
+    async def _finished(
+        self, kind: JobKind[P, R], raw: object, summarize: Callable[[R], str], attach: Attach[R] | None
+    ) -> CallToolResult:
+        """The answer of a finished result, built in a worker thread: checking and dumping a large result (200
+        matches of whole messages: about 16 ms) would hold up every other call on the event loop."""
+
+        def build() -> CallToolResult:
+            result = kind.result.model_validate(raw)
+            with tool_errors():
+                extra = attach(result) if attach is not None else []
+            return answer(LongAnswer[R](result=result), summarize(result), extra=extra, omit_none=True)
+
+        return await anyio.to_thread.run_sync(build)
 
     def _unfinished(self, job: Job) -> CallToolResult:
         if job.state == "failed":

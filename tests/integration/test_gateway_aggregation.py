@@ -10,6 +10,7 @@ import anyio
 import pytest
 from mcp import Client
 from mcp.server.mcpserver import Context, MCPServer
+from mcp.types import SERVER_INFO_META_KEY
 
 from bagmcp_gateway.aggregator import build_gateway_server
 from bagmcp_gateway.connections import Connections
@@ -49,6 +50,17 @@ async def test_tools_keep_their_names_and_schemas_and_calls_reach_the_owner() ->
         assert via_gateway["topic_stats"].input_schema == original["topic_stats"].input_schema
         assert via_gateway["topic_stats"].output_schema == original["topic_stats"].output_schema
         assert (await call(client, "topic_stats", topic="/odom", window=2))["mean"] == 10.0
+
+
+async def test_answers_reach_callers_of_either_protocol_era_as_the_gateway_s() -> None:
+    gateway = build_gateway_server([Upstream(name="analysis", server=_upstream_server("upstream-name"))], name="bagmcp")
+    for mode in ("auto", "legacy"):  # 2026-07-28: relayed in wire form; 2025-11-25: through the SDK's handlers
+        async with Client(gateway, cache=None, mode=mode) as client:
+            answer = await client.call_tool("topic_stats", {"topic": "/odom", "window": 3})
+            assert answer.structured_content == {"mean": 15.0}
+            assert text_of(answer) == '{\n  "mean": 15.0\n}'
+            stamp = (answer.meta or {}).get(SERVER_INFO_META_KEY)
+            assert stamp == (None if mode == "legacy" else {"name": "bagmcp", "version": ""})
 
 
 async def test_a_down_upstream_drops_out_while_the_others_keep_working() -> None:

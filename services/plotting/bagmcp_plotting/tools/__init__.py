@@ -3,14 +3,14 @@
 from __future__ import annotations
 
 from mcp.server.mcpserver import MCPServer
-from mcp.server.mcpserver.exceptions import ResourceError
+from mcp.server.mcpserver.exceptions import ResourceNotFoundError
 
 from bagmcp_kit.longwork import LongWork
 from bagmcp_kit.server import Guard, new_server
 from bagmcp_plotting.artifacts import ARTIFACT_URI, Artifacts
 from bagmcp_plotting.tools.plot_tools import PlotTools
 from bagmcp_shared.access import BagAccess
-from bagmcp_shared.errors import BagmcpError
+from bagmcp_shared.errors import ObjectNotFoundError
 
 PURPOSE = (
     "Plots of robot bags as images you can see: time series, XY and trajectories, lidar scans, histograms, runs "
@@ -33,5 +33,5 @@ def _artifact_resource(server: MCPServer, artifacts: Artifacts) -> None:
     def read_artifact(artifact: str) -> bytes:
         try:
             return artifacts.png(artifact)
-        except BagmcpError as err:
-            raise ResourceError(str(err)) from err
+        except ObjectNotFoundError as err:  # no such artifact: the message says what to do
+            raise ResourceNotFoundError(str(err)) from err

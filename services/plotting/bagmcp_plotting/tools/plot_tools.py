@@ -64,7 +64,9 @@ class PlotTools(BagTools):
     def _attach(self, report: PlotReport) -> list[ContentBlock]:
         png = self._artifacts.png(report.artifact.id)
         image = ImageContent(type="image", data=base64.b64encode(png).decode(), mime_type="image/png")
-        uri = report.artifact.url if "://" in report.artifact.url else ARTIFACT_URI.format(artifact=report.artifact.id)
+        uri = ARTIFACT_URI.format(
+            artifact=report.artifact.id
+        )  # readable with resources/read (the REST url is in the report)
         link = ResourceLink(type="resource_link", uri=uri, name=f"{report.artifact.id}.png", mime_type="image/png")
         return [image, link]
 

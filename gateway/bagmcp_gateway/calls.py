@@ -1,0 +1,117 @@
+"""One tool call through the gateway: checked again (the tool is there, the caller may call it), rate
+limited, sent to its upstream with progress relayed, capped, audited and counted. The answer stays in its
+wire form from the upstream to the caller (answers.py)."""
+
+from __future__ import annotations
+
+import json
+import logging
+import time
+from typing import Any
+
+import anyio
+from mcp.server import ServerRequestContext
+from mcp.server.auth.middleware.auth_context import get_access_token
+from mcp.server.auth.provider import AccessToken
+from mcp.shared.inbound import mcp_param_headers
+
+from bagmcp_gateway.answers import WireResult, cap_answer, error_result, is_error, text_characters
+from bagmcp_gateway.audit import AuditRecord
+from bagmcp_gateway.catalog import ToolRoute
+from bagmcp_gateway.gateway import Gateway, who
+from bagmcp_gateway.ratelimit import retry_after_s
+from bagmcp_gateway.resource_routes import with_exposed_links
+from bagmcp_kit.identity import OWNER_META_KEY
+
+log = logging.getLogger(__name__)
+
+
+async def _forward(
+    gateway: Gateway, ctx: ServerRequestContext[Any], route: ToolRoute, arguments: dict[str, Any], caller: str
+) -> WireResult:
+    async def relay_progress(progress: float, total: float | None, message: str | None) -> None:
+        await ctx.session.report_progress(progress, total, message)
+
+    meta = {OWNER_META_KEY: caller}
+    with anyio.fail_after(route.upstream.call_timeout_s):
+        async with gateway.connections.link(route.upstream) as link:
+            if link.relay is not None:
+                params = {"name": route.original, "arguments": arguments}
+                headers = mcp_param_headers(route.param_headers, arguments) if route.param_headers else None
+                return await link.relay.request(
+                    "tools/call", params, meta=meta, headers=headers, progress=relay_progress
+                )
+            result = await link.client.call_tool(route.original, arguments, progress_callback=relay_progress, meta=meta)  # type: ignore[arg-type]
+            return result.model_dump(by_alias=True, mode="json", exclude_none=True)
+
+
+def _missing(gateway: Gateway, name: str, record: AuditRecord) -> WireResult:
+    gone = gateway.catalog.known.get(name)
+    record.outcome, record.upstream = ("unavailable", gone.name) if gone else ("unknown_tool", None)
+    if gone is not None:
+        return error_result(
+            f"the {gone.name} service is unavailable right now, so {name} cannot run; try again shortly"
+        )
+    down = ", ".join(n for n, state in gateway.catalog.states.items() if not state.up) or "none"
+    return error_result(f"Unknown tool: {name} (services unavailable right now: {down})")
+
+
+async def _checked_call(
+    gateway: Gateway,
+    ctx: ServerRequestContext[Any],
+    name: str,
+    arguments: dict[str, Any],
+    caller: AccessToken | None,
+    record: AuditRecord,
+) -> WireResult:
+    await gateway.tools()
+    route = gateway.catalog.routes.get(name)
+    if route is None:
+        return _missing(gateway, name, record)
+    upstream = route.upstream
+    record.upstream = upstream.name
+    if not gateway.policy.allows(route.tool, caller):
+        record.outcome = "denied"
+        return error_result(f"{name} is not enabled for this token (its profile, allow/deny lists or scopes)")
+    if gateway.limiter is not None and (wait := await gateway.limiter.take(who(caller))):
+        record.outcome = "rate_limited"
+        after = retry_after_s(wait)
+        return error_result(f"rate limit reached for this token; retry after {after} s", retryAfterSeconds=after)
+    try:
+        result = await _forward(gateway, ctx, route, arguments, who(caller))
+    except TimeoutError:
+        log.warning("call of %s on %s timed out after %s s", route.original, upstream.name, upstream.call_timeout_s)
+        gateway.catalog.failed(upstream)
+        record.outcome = "unavailable"
+        return error_result(
+            f"the {upstream.name} service did not answer {name} within {upstream.call_timeout_s:g} s (its time "
+            "limit); ask for less work, or try again later"
+        )
+    except Exception as err:  # transport failure (or a protocol error): the tool is there but its service is not
+        log.warning("call of %s on %s failed: %s", route.original, upstream.name, err)
+        gateway.catalog.failed(upstream)
+        record.outcome = "unavailable"
+        return error_result(
+            f"the {upstream.name} service is unavailable right now ({type(err).__name__}); try again shortly"
+        )
+    record.outcome = "error" if is_error(result) else "ok"
+    return cap_answer(with_exposed_links(result, upstream), max_chars=gateway.max_answer_chars)
+
+
+async def call_tool(
+    gateway: Gateway, ctx: ServerRequestContext[Any], name: str, arguments: dict[str, Any]
+) -> WireResult:
+    caller = get_access_token()
+    began = time.perf_counter()
+    record = AuditRecord(token=who(caller), tool=name, upstream=None)
+    if gateway.audit is not None:
+        record.request_bytes = len(json.dumps(arguments, default=str))
+        record.arguments = dict(arguments) if gateway.audit_arguments else None
+    result = await _checked_call(gateway, ctx, name, arguments, caller, record)
+    seconds = time.perf_counter() - began
+    gateway.metrics.record(name, record.upstream or "-", record.outcome, seconds)
+    if gateway.audit is not None:
+        record.duration_ms = round(seconds * 1000, 3)
+        record.response_bytes = text_characters(result)
+        gateway.audit.write(record)
+    return result
