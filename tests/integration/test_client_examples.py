@@ -256,6 +256,12 @@ def _fenced_blocks(markdown: str) -> list[tuple[str, str]]:
     return re.findall(r"^```(\w*)\n(.*?)^```$", markdown, flags=re.MULTILINE | re.DOTALL)
 
 
+def test_the_readme_shows_the_tested_python_and_typescript_examples_verbatim() -> None:
+    blocks = _fenced_blocks((ROOT / "README.md").read_text())
+    for name, language in [("python_client.py", "python"), ("typescript_client.mjs", "js")]:
+        assert (language, (EXAMPLES / name).read_text()) in blocks, f"README.md does not show {name} verbatim"
+
+
 def test_the_client_docs_show_the_tested_files_verbatim_and_only_valid_json() -> None:
     blocks = _fenced_blocks(DOC.read_text())
     for name, language in [
