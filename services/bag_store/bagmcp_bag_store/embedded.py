@@ -29,7 +29,8 @@ def start_embedded(embedded: Embedded) -> BagStore:
     def ingest(bag_id: str) -> None:
         try:
             hashes.fill(bag_id)
-            work.ingestor.ingest(bag_id)
+            if work.ingestor.ingest(bag_id) == "ready":
+                res.access.warm(bag_id)  # this process answers the questions: keep the bag open for the first
         except Exception as err:  # a thread has no caller to report to: record it on the bag
             log.exception("ingest of %s failed", bag_id)
             work.ingestor.mark_failed(bag_id, f"ingest failed ({type(err).__name__}: {err})")

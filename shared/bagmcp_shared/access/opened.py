@@ -11,7 +11,7 @@ from bagmcp_shared.access.files import BagFiles
 from bagmcp_shared.access.readers import ReaderCache
 from bagmcp_shared.bags import BagReader, RawMessage
 from bagmcp_shared.catalog import BagRecord, Catalog, CatalogSummary, TopicStats, ready_record, resolve_bag
-from bagmcp_shared.errors import ArgumentError, TimeError, TopicNotFoundError
+from bagmcp_shared.errors import ArgumentError, BagmcpError, TimeError, TopicNotFoundError
 from bagmcp_shared.index import ColumnIndex
 from bagmcp_shared.timebase import Instant, TimeInput, iso_from_ns, parse_time
 
@@ -110,6 +110,17 @@ class BagAccess:
 
     def ready(self, ref: str) -> BagRecord:
         return ready_record(self.catalog, ref)
+
+    def warm(self, bag_id: str) -> bool:
+        """Open a just-ingested bag (reader and index) into the cache while it has room for another bag, so
+        the first question about it finds it open; False when the cache is full or the bag cannot be read."""
+        if len(self.cache) >= self.cache.max_bags:
+            return False
+        try:
+            with self.open(bag_id, need_messages=False):
+                return True
+        except BagmcpError:
+            return False
 
     @contextmanager
     def open(self, ref: str, *, need_messages: bool = True) -> Iterator[OpenBag]:
