@@ -93,12 +93,17 @@ class LoadResult:
         return len(self.timing) / self.wall_s if self.wall_s else 0.0
 
 
+BENCH_CLIENT = "bench client"
+
+
 def _cpu_s(processes: dict[str, psutil.Process]) -> dict[str, float]:
-    """CPU seconds (user and system) each process and its children used so far."""
+    """CPU seconds (user and system) each process used so far: a server with its children, the bench
+    client without them (its children are the servers it started, counted on their own)."""
     found = {}
     for name, process in processes.items():
+        family = (process,) if name == BENCH_CLIENT else (process, *process.children(True))
         try:
-            found[name] = sum(p.cpu_times().user + p.cpu_times().system for p in (process, *process.children(True)))
+            found[name] = sum(p.cpu_times().user + p.cpu_times().system for p in family)
         except psutil.Error:
             found[name] = 0.0
     return found
@@ -115,12 +120,13 @@ async def run_load(
     """``clients`` clients, connected and warmed up first (one untimed call of each tool), then all at once
     making ``calls_each`` cheap calls each (bag_info and get_message_at_time in turn, over the bags);
     errors are counted, not raised. The CPU each ``watch``ed process (by pid) and the bench client spent
-    per call is recorded."""
+    per call is recorded, from the start signal to the last client's last answer (not the sessions' close)."""
     load = LoadResult(clients, calls_each)
     watched = {name: psutil.Process(pid) for name, pid in (watch or {}).items()}
-    watched["bench client"] = psutil.Process()
+    watched[BENCH_CLIENT] = psutil.Process()
     cheap = [c for c in CALLS if c.cheap and c.tool != "list_bags"]
     connected, go, finished = 0, anyio.Event(), [0.0]
+    stopped: dict[str, float] = {}
 
     async def one_client(number: int) -> None:
         nonlocal connected
@@ -138,6 +144,8 @@ async def run_load(
                 except Exception as err:  # counted: the load test reports errors, never stops
                     load.errors.append(f"{bench_call.tool}: {err}"[:300])
             finished.append(time.perf_counter())
+            if len(finished) == clients + 1:  # the last client done: CPU read before the sessions close
+                stopped.update(_cpu_s(watched))
 
     async with anyio.create_task_group() as group:
         for number in range(clients):
@@ -149,7 +157,7 @@ async def run_load(
         began = time.perf_counter()
         go.set()
     load.wall_s = max(finished) - began
-    after = _cpu_s(watched)
+    after = stopped or _cpu_s(watched)
     calls = max(len(load.timing), 1)
     load.cpu_ms_per_call = {name: 1000 * (after[name] - before[name]) / calls for name in watched}
     return load
