@@ -212,11 +212,13 @@ def render(run: RunResult, *, notes: str) -> str:
         "Written by `make bench` (`python -m bench`"
         + (" --quick, a small smoke run: its figures say nothing about the targets" if run.quick else "")
         + f") on {time.strftime('%Y-%m-%d')} at commit {machine.commit}, in {run.wall_s / 60:.1f} minutes. "
-        "Every figure is an MCP call as a client makes it: the official `mcp` client over streamable HTTP on "
-        "loopback, timed from the call to its answer. *Cold* is the first call of that tool on that bag after "
-        "ingest (in the order of the tables, so earlier rows may have opened the bag); *warm* is the median "
-        f"(and p95) of {run.repeats} further calls with varying times. The *floor* is the same work done "
-        "by a script with rosbags (`AnyReader`: open the bag, decode the messages), median of the same count.",
+        "Every figure in the tables is an MCP call as a client makes it: the official `mcp` client over "
+        "streamable HTTP on loopback, timed from the call to its answer. *Cold* is the first call of that "
+        "tool on that bag after ingest (in the order of the tables, so earlier rows may have opened the "
+        f"bag); *warm* is the median (and p95) of {run.repeats} further calls with varying times. The "
+        "*floor* is the same work done by a script with rosbags (`AnyReader`: open the bag, decode the "
+        "messages), median of the same count. The notes after the targets quote one-off measurements "
+        "(CPU, profiles, in-process timings) named as such.",
         "",
         "## Machine",
         "",

@@ -11,7 +11,6 @@ from fastapi import APIRouter, Depends, FastAPI
 from fastapi.responses import JSONResponse, Response
 from mcp.server.auth.settings import AuthSettings
 from mcp.server.subscriptions import InMemorySubscriptionBus
-from mcp.server.transport_security import TransportSecuritySettings
 from pydantic import AnyHttpUrl
 
 from bagmcp_gateway.aggregator import Gateway, gateway_server
@@ -30,7 +29,7 @@ from bagmcp_gateway.tokens.verifier import GatewayVerifier
 from bagmcp_gateway.upstreams import Upstream
 from bagmcp_kit.error_shape import UniformAuthErrors
 from bagmcp_kit.http_errors import StatusTable
-from bagmcp_kit.service_app import new_app
+from bagmcp_kit.service_app import HOST_CHECK_IN_MIDDLEWARE, new_app
 from bagmcp_shared.redis_errors import answers
 from bagmcp_shared.resources import redis_client
 
@@ -94,12 +93,11 @@ def create_app(
             required_scopes=["read"],
             validate_token_resource=False,
         )
-    security = TransportSecuritySettings(allowed_hosts=list(settings.http.allowed_hosts), allowed_origins=[])
     mcp_app = server.streamable_http_app(
         streamable_http_path="/mcp",
         stateless_http=True,
         json_response=False,
-        transport_security=security,
+        transport_security=HOST_CHECK_IN_MIDDLEWARE,
         auth=auth,
         token_verifier=verifier,
     )

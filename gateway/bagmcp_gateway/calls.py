@@ -21,7 +21,7 @@ from bagmcp_gateway.catalog import ToolRoute
 from bagmcp_gateway.gateway import Gateway, who
 from bagmcp_gateway.ratelimit import retry_after_s
 from bagmcp_gateway.resource_routes import with_exposed_links
-from bagmcp_kit.identity import OWNER_META_KEY
+from bagmcp_kit.identity import owner_meta
 
 log = logging.getLogger(__name__)
 
@@ -32,7 +32,7 @@ async def _forward(
     async def relay_progress(progress: float, total: float | None, message: str | None) -> None:
         await ctx.session.report_progress(progress, total, message)
 
-    meta = {OWNER_META_KEY: caller}
+    meta = owner_meta(caller)
     with anyio.fail_after(route.upstream.call_timeout_s):
         async with gateway.connections.link(route.upstream) as link:
             if link.relay is not None:
@@ -41,7 +41,7 @@ async def _forward(
                 return await link.relay.request(
                     "tools/call", params, meta=meta, headers=headers, progress=relay_progress
                 )
-            result = await link.client.call_tool(route.original, arguments, progress_callback=relay_progress, meta=meta)  # type: ignore[arg-type]
+            result = await link.client.call_tool(route.original, arguments, progress_callback=relay_progress, meta=meta)
             return result.model_dump(by_alias=True, mode="json", exclude_none=True)
 
 

@@ -158,10 +158,6 @@ class ToolCatalog:
         if self.conflicts:
             raise GatewayConfigError("; ".join(self.conflicts))
 
-    def tool(self, name: str) -> types.Tool | None:
-        route = self.routes.get(name)
-        return route.tool if route is not None else None
-
     def header_schema(self, name: str) -> dict[str, Any] | None:
         """What the SDK checks a call's ``Mcp-Param`` headers against: the tool's input schema when it
         declares such headers, else an empty object schema (the same verdict, without walking the schema)."""

@@ -14,7 +14,6 @@ from __future__ import annotations
 
 import logging
 import math
-import threading
 import time
 from dataclasses import dataclass
 from typing import Protocol
@@ -71,18 +70,17 @@ class MemoryRateLimiter:
     def __init__(self, limit: Limit) -> None:
         self._limit = limit
         self._buckets: dict[str, tuple[float, float]] = {}
-        self._lock = threading.Lock()
 
     async def take(self, who: str) -> float:
+        """On the event loop only (no await inside), so no lock is needed."""
         now = time.monotonic()
-        with self._lock:
-            tokens, last = self._buckets.get(who, (float(self._limit.burst), now))
-            tokens = min(float(self._limit.burst), tokens + (now - last) * self._limit.rate_per_s)
-            if tokens >= 1:
-                self._buckets[who] = (tokens - 1, now)
-                return 0.0
-            self._buckets[who] = (tokens, now)
-            return (1 - tokens) / self._limit.rate_per_s
+        tokens, last = self._buckets.get(who, (float(self._limit.burst), now))
+        tokens = min(float(self._limit.burst), tokens + (now - last) * self._limit.rate_per_s)
+        if tokens >= 1:
+            self._buckets[who] = (tokens - 1, now)
+            return 0.0
+        self._buckets[who] = (tokens, now)
+        return (1 - tokens) / self._limit.rate_per_s
 
 
 @dataclass

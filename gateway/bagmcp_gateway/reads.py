@@ -19,7 +19,7 @@ from bagmcp_gateway.gateway import Gateway, who
 from bagmcp_gateway.ratelimit import retry_after_s
 from bagmcp_gateway.resource_routes import with_exposed_contents
 from bagmcp_gateway.upstreams import Upstream
-from bagmcp_kit.identity import OWNER_META_KEY
+from bagmcp_kit.identity import owner_meta
 
 READ = "resources/read"
 REQUEST_LIMITED = -32005  # implementation-defined JSON-RPC server error: this caller is over its rate limit
@@ -47,12 +47,12 @@ async def list_templates(gateway: Gateway) -> types.ListResourceTemplatesResult:
 
 
 async def _fetch(gateway: Gateway, upstream: Upstream, uri: str, caller: str) -> WireResult:
-    meta = {OWNER_META_KEY: caller}
+    meta = owner_meta(caller)
     with anyio.fail_after(upstream.call_timeout_s):
         async with gateway.connections.link(upstream) as link:
             if link.relay is not None:
                 return await link.relay.request("resources/read", {"uri": uri}, meta=meta)
-            result = await link.client.read_resource(uri, meta=meta)  # type: ignore[arg-type]
+            result = await link.client.read_resource(uri, meta=meta)
             return result.model_dump(by_alias=True, mode="json", exclude_none=True)
 
 

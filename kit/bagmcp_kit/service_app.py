@@ -46,6 +46,11 @@ def new_app(
     return app
 
 
+# Host and Origin are checked for every route, /mcp included, by the app's HostAllowList (one rule, one
+# error shape); the SDK's own check would refuse an Origin that rule allows, so it is left off.
+HOST_CHECK_IN_MIDDLEWARE = TransportSecuritySettings(enable_dns_rebinding_protection=False)
+
+
 def create_service_app(
     *,
     title: str,
@@ -57,7 +62,7 @@ def create_service_app(
     on_shutdown: Callable[[], None] | None = None,
 ) -> FastAPI:
     """The service as an ASGI app. With ``service_token`` both MCP and REST require it."""
-    security = TransportSecuritySettings(allowed_hosts=list(allowed_hosts), allowed_origins=[])
+    security = HOST_CHECK_IN_MIDDLEWARE
     mcp_app = server.streamable_http_app(streamable_http_path="/mcp", transport_security=security)
 
     @contextlib.asynccontextmanager

@@ -82,7 +82,11 @@ def _info(path: Path) -> tuple[int, str, str]:
 
 def _info_problem(path: Path) -> str | None:
     """Why the answer of `bagmcp info` on ``path`` is not acceptable (None when it is)."""
-    code, out, err = _info(path)
+    return _answer_problem(*_info(path))
+
+
+def _answer_problem(code: int, out: str, err: str) -> str | None:
+    """Why an answer of `bagmcp info` is not acceptable: exit 0 with JSON, or 1 with one domain-error line."""
     if code == 0:
         return None if out.startswith("{") and not err else f"exit 0 with stderr {err!r}"
     lines = err.strip().splitlines()
@@ -110,12 +114,15 @@ def _ingest_problem(path: Path, work: Path) -> str | None:
 def test_damaged_copies_get_a_clear_domain_error_or_are_read(
     mutants: dict[str, list[Mutant]], kind: str, tmp_path: Path
 ) -> None:
-    problems = []
+    problems, refused = [], 0
     for number, mutant in enumerate(mutants[kind]):
-        for problem in (_info_problem(mutant.path), _ingest_problem(mutant.path, tmp_path / f"index-{number}")):
+        answer = _info(mutant.path)
+        refused += answer[0] == 1
+        for problem in (_answer_problem(*answer), _ingest_problem(mutant.path, tmp_path / f"index-{number}")):
             if problem is not None:
                 problems.append(f"{mutant.path.name} ({mutant.change}): {problem}")
     assert problems == []
+    assert refused >= 5  # the damage reaches the readers: the same seed refuses these every run
 
 
 def _edge_cases() -> list[str]:
@@ -139,16 +146,19 @@ def test_the_damaged_recordings_of_the_corpus_get_a_clear_domain_error_or_are_re
 
 def test_the_installed_command_answers_damaged_copies_in_one_line(mutants: dict[str, list[Mutant]]) -> None:
     chosen = [mutants[kind][n] for kind in ("ros1", "ros2-sqlite3", "ros2-mcap") for n in (0, 1)]
+    refusals = 0
     for mutant in chosen:
         result = subprocess.run(
             [str(BIN / "bagmcp"), "info", str(mutant.path)], capture_output=True, text=True, timeout=30, check=False
         )
         assert result.returncode in (0, 1), (mutant, result.stderr)
+        refusals += result.returncode == 1
         assert "Traceback" not in result.stderr
         if result.returncode == 1:
             assert len(result.stderr.strip().splitlines()) == 1, (mutant, result.stderr)
             assert result.stderr.startswith("bagmcp: error: ")
             assert not result.stderr.strip().endswith("(please report this)")  # the message of a bug
+    assert refusals >= 1  # the one-line error path ran
 
 
 def test_damaged_uploads_are_refused_clearly_or_listed_with_a_reason_never_a_server_error(

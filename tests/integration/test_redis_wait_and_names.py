@@ -36,12 +36,14 @@ def test_a_waiter_is_woken_by_the_finished_job_not_by_polling(redis_url: str) ->
 
     def finish() -> None:
         started.wait()
-        time.sleep(0.5)  # the waiter sits idle meanwhile
+        time.sleep(3.0)  # the waiter sits idle meanwhile: a poll of once a second or faster would read 3+ times
         update(RedisJobStore(client), job.id, state="succeeded", result={"n": 1})
 
     threading.Thread(target=finish).start()
     started.set()
+    began = time.monotonic()
     seen = store.wait(job.id, newer_than=job.updated_at, timeout_s=30)
+    assert time.monotonic() - began >= 2.9  # woken by the end of the job, not earlier
     assert seen is not None
     assert seen.state == "succeeded"
     assert seen.result == {"n": 1}

@@ -13,16 +13,9 @@ import pytest
 
 from tests.fixtures.bagfactory import BagKind
 from tests.fixtures.inprocess import copy_bags
+from tests.fixtures.mcp_client import INITIALIZE, MCP_HEADERS
 from tests.fixtures.processes import BIN, http_ok, service, wait_until
 from tests.fixtures.servers import free_port
-
-INITIALIZE = {
-    "jsonrpc": "2.0",
-    "id": 1,
-    "method": "initialize",
-    "params": {"protocolVersion": "2025-06-18", "capabilities": {}, "clientInfo": {"name": "t", "version": "0"}},
-}
-MCP_HEADERS = {"Accept": "application/json, text/event-stream", "Content-Type": "application/json"}
 
 
 @pytest.fixture(scope="module")

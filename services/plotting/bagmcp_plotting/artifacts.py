@@ -50,15 +50,14 @@ class Artifacts:
 
     def png(self, artifact: str) -> bytes:
         """The stored PNG; ObjectNotFoundError (saying what to do) for an id that names none."""
+        missing = f"no plot artifact {artifact!r}; use the artifact id of a plot's answer, or plot again"
+        if not artifact.isalnum():
+            raise ObjectNotFoundError(missing)
         try:
-            if not artifact.isalnum():
-                raise ObjectNotFoundError(artifact)
             with self._store.open_read(keys.artifact(artifact, "png")) as stream:
                 return stream.read()
         except ObjectNotFoundError as err:
-            raise ObjectNotFoundError(
-                f"no plot artifact {artifact!r}; use the artifact id of a plot's answer, or plot again"
-            ) from err
+            raise ObjectNotFoundError(missing) from err
 
     def cached(self, artifact: str, make: Callable[[], PlotReport]) -> PlotReport:
         """The stored report of ``artifact``, or ``make`` (which renders and saves it)."""

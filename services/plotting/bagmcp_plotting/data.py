@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -10,7 +11,7 @@ import numpy.typing as npt
 from bagmcp_shared.access import OpenBag
 from bagmcp_shared.errors import ArgumentError
 from bagmcp_shared.index import read_series
-from bagmcp_shared.jobs import Progress
+from bagmcp_shared.jobs import Progress, spans
 from bagmcp_shared.paths import check_steps, field_paths, format_steps, parse_message_path
 from bagmcp_shared.units import unit_of
 
@@ -40,6 +41,27 @@ def _numeric_fields(ob: OpenBag, msgtype: str) -> str:
 
 def read_path(ob: OpenBag, text: str, lo: int, hi: int, progress: Progress) -> PathSeries:
     """A numeric message path over [lo, hi]; wrong or non-numeric paths list the valid numeric ones."""
+    (series,) = read_paths(ob, [text], lo, hi, progress)
+    return series
+
+
+def read_paths(ob: OpenBag, texts: Sequence[str], lo: int, hi: int, progress: Progress) -> list[PathSeries]:
+    """Numeric message paths over [lo, hi], in the order given; each topic is read once, its fields
+    together (one decoding pass where the index lacks them)."""
+    wanted = [_numeric_field(ob, text) for text in texts]
+    by_topic: dict[str, list[str]] = {}
+    for topic, field in wanted:
+        fields = by_topic.setdefault(topic, [])
+        if field not in fields:
+            fields.append(field)
+    found: dict[tuple[str, str], PathSeries] = {}
+    for (topic, fields), step in zip(by_topic.items(), spans(progress, len(by_topic)), strict=True):
+        found.update({(topic, s.field): s for s in read_fields(ob, topic, fields, lo, hi, step)})
+    return [found[key] for key in wanted]
+
+
+def _numeric_field(ob: OpenBag, text: str) -> tuple[str, str]:
+    """The topic and field a numeric message path names; wrong or non-numeric paths list the valid ones."""
     parsed = parse_message_path(text)
     topic = ob.topic_name(parsed.topic)
     msgtype = ob.msgtype(topic)
@@ -49,8 +71,7 @@ def read_path(ob: OpenBag, text: str, lo: int, hi: int, progress: Progress) -> P
     field = format_steps(parsed.steps)
     if not leaf.startswith(_NUMERIC):
         raise ArgumentError(f"{topic}.{field} is {leaf}, not a number; plot one of: {_numeric_fields(ob, msgtype)}")
-    (series,) = read_fields(ob, topic, [field], lo, hi, progress)
-    return series
+    return topic, field
 
 
 def read_fields(ob: OpenBag, topic: str, fields: list[str], lo: int, hi: int, progress: Progress) -> list[PathSeries]:

@@ -12,7 +12,7 @@ from pydantic import BaseModel
 
 from bagmcp_plotting import job_kinds as kinds
 from bagmcp_plotting.artifacts import Artifacts, artifact_id
-from bagmcp_plotting.data import PathSeries, read_path
+from bagmcp_plotting.data import PathSeries, read_path, read_paths
 from bagmcp_plotting.drawing import Line, render_histogram, render_overlay, render_scan, render_timeseries, render_xy
 from bagmcp_plotting.positions import motion_start, positions
 from bagmcp_plotting.reports import Artifact, PlotReport, SeriesOut
@@ -68,8 +68,7 @@ class Plotter:
         def make(key: str) -> PlotReport:
             with self._access.open(params.bag) as ob:
                 lo, hi = ob.window(params.start, params.end)
-                steps = spans(progress, len(params.paths))
-                series = [read_path(ob, p, lo, hi, step) for p, step in zip(params.paths, steps, strict=True)]
+                series = read_paths(ob, params.paths, lo, hi, progress)
                 title = params.title or f"{', '.join(s.name for s in series)} ({_window_title(ob, lo, hi)})"
                 lines = [Line(s.name, s.unit, s.t_s(ob.start_ns), s.values) for s in series]
                 png = render_timeseries(lines, style=params.style, title=title)
@@ -122,8 +121,7 @@ class Plotter:
         self, ob: OpenBag, params: kinds.XYParams, lo: int, hi: int, progress: Progress
     ) -> tuple[PathSeries, PathSeries, list[str]]:
         if params.x is not None and params.y is not None:
-            first, second = spans(progress, 2)
-            x, y = read_path(ob, params.x, lo, hi, first), read_path(ob, params.y, lo, hi, second)
+            x, y = read_paths(ob, [params.x, params.y], lo, hi, progress)
             if not np.array_equal(x.t_ns, y.t_ns):
                 raise ArgumentError("x and y must be fields of the same topic (one point per message)")
             return x, y, []

@@ -14,8 +14,10 @@ from fastapi.testclient import TestClient
 
 from bagmcp_kit.access_log import RedactSecrets, redacted
 from bagmcp_kit.host_check import host_allowed
-from bagmcp_kit.service_app import new_app
+from bagmcp_kit.server import new_server
+from bagmcp_kit.service_app import create_service_app, new_app
 from bagmcp_shared.settings import LOOPBACK_HOSTS
+from tests.fixtures.mcp_client import INITIALIZE, MCP_HEADERS
 
 
 @contextlib.asynccontextmanager
@@ -97,3 +99,16 @@ def test_secret_query_parameters_never_reach_a_log() -> None:
     assert (
         forwarded.getMessage() == 'HTTP Request: GET http://b:8001/api/v1/bags?token=REDACTED&limit=1 "HTTP/1.1 200 OK"'
     )
+
+
+def test_mcp_takes_the_same_host_and_origin_rule_as_every_other_route() -> None:
+    app = create_service_app(
+        title="t", server=new_server("t", purpose="Test.", tools=[]), service_token=None, allowed_hosts=LOOPBACK_HOSTS
+    )
+    with TestClient(app, base_url="http://127.0.0.1:8000") as client:
+        refused = client.post("/mcp", json=INITIALIZE, headers={**MCP_HEADERS, "origin": "http://evil.example"})
+        assert refused.status_code == 403
+        assert refused.json()["error"]["code"] == "forbidden_origin"
+        same = client.post("/mcp", json=INITIALIZE, headers={**MCP_HEADERS, "origin": "http://127.0.0.1:8000"})
+        assert same.status_code == 200, same.text
+        assert "serverInfo" in same.text

@@ -83,6 +83,11 @@ def test_only_an_empty_catalog_over_a_store_with_bags_is_restored_at_start(
     kept = MemoryCatalog()
     kept.add(record)
     assert restore_lost_catalog(kept, store, queued.append) is None  # not lost
-    restored = restore_lost_catalog(MemoryCatalog(), store, queued.append)
+    lost = MemoryCatalog()
+    restored = restore_lost_catalog(lost, store, queued.append)
     assert restored is not None
+    assert restored.to_ingest == [record.id]
     assert queued == [record.id]
+    listed = lost.get(record.id)
+    assert listed is not None
+    assert (listed.name, listed.files) == ("kept", record.files)
