@@ -20,17 +20,19 @@ from mcp.server.auth.provider import AccessToken
 from bagmcp_gateway.lean import lean_tools
 from bagmcp_gateway.tokens.models import SCOPES
 
-CORE_TOOLS = (
+CORE_TOOLS = (  # the paper's ten tasks, each in one or two calls (tests/checks/paper_tasks.py)
     "list_bags",
     "bag_info",
     "search_messages",
+    "filter_bag",
     "analyze_trajectory",
     "analyze_lidar_scan",
     "get_tf_tree",
     "plot_timeseries",
     "plot_2d",
-    "get_job",  # core tools may answer with a job: follow it
-    "cancel_job",
+    "plot_lidar_scan",
+    "plot_histogram",
+    "get_job",  # core tools may answer with a job: follow it (cancel_job is in full)
 )
 
 

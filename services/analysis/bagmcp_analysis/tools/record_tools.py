@@ -88,8 +88,8 @@ class RecordTools(BagTools):
     async def get_tf_tree(
         self, ctx: Context, bag: BagRef, time: Annotated[TimeArg | None, Field(description="default: whole bag")] = None
     ) -> Annotated[CallToolResult, LongAnswer[TfTreeReport]]:
-        """The TF frames and their parent/child edges (static or dynamic, with rates), roots, and frames
-        published under more than one parent. Example: time=10."""
+        """TF frames, their parent/child edges (static or dynamic, with rates), roots, and frames with more than
+        one parent. Example: time=10."""
         with tool_errors():
             params = params_of(TfTreeParams, bag=bag, time=time)
         return await self._work.run(

@@ -24,12 +24,12 @@ class CatalogTools:
     def list_bags(
         self,
         name: Annotated[str | None, Field(description="part of the name")] = None,
-        tag: Annotated[str | None, Field(description="only bags with this tag")] = None,
+        tag: Annotated[str | None, Field(description="with this tag")] = None,
         offset: Offset = 0,
         limit: Annotated[int, Field(ge=1, le=500, description="page size")] = 50,
     ) -> Annotated[CallToolResult, BagList]:
-        """The bags in the store with status (ready, ingesting, or failed and why), format, duration and
-        counts. Call this first. Example: name="husky"."""
+        """Bags in the store: status (ready, ingesting, or failed and why), format, duration, counts. Call this
+        first. Example: name="husky"."""
         return run_query(
             lambda: catalog_queries.list_bags(self._access.catalog, name=name, tag=tag, offset=offset, limit=limit),
             lambda r: f"{r.total} bags; showing {len(r.bags)} from {r.offset}",
@@ -37,8 +37,8 @@ class CatalogTools:
 
     @tool(READ_ONLY)
     def bag_info(self, bag: BagRef) -> Annotated[CallToolResult, BagInfo]:
-        """One bag's format, size, start/end, duration and every topic with type, count and rate (odd rates
-        explained). Example: bag="run1"."""
+        """One bag: format, size, start/end, duration, each topic's type, count and rate (odd rates explained).
+        Example: bag="run1"."""
         return run_query(
             lambda: catalog_queries.bag_info(self._access.catalog, bag),
             lambda r: f"{r.name}: {r.message_count} messages on {len(r.topics)} topics over {r.duration_s:.3f} s",

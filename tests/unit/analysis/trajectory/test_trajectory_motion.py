@@ -110,7 +110,12 @@ def _stall_then_burst(*, log_time: bool) -> Track:
     stalled = (sample > 100) & (sample <= 105)
     stamps[stalled] = 105 * 50_000_000 + (sample[stalled] - 101) * 400_000
     return Track(
-        t_ns=stamps, x=sample * 0.025, y=np.zeros(201), z=np.zeros(201), yaw=np.zeros(201), log_time=log_time
+        t_ns=stamps,
+        x=sample.astype(np.float64) * 0.025,
+        y=np.zeros(201),
+        z=np.zeros(201),
+        yaw=np.zeros(201),
+        log_time=log_time,
     )
 
 
