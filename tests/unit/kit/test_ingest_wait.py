@@ -69,13 +69,13 @@ async def test_a_call_waits_for_the_ingest_and_reports_its_progress() -> None:
     catalog = _catalog()
     seen: list[float] = []
 
-    async def progress(value: float, total: float | None, message: str | None) -> None:
-        seen.append(value)
+    async def on_progress(progress: float, total: float | None, message: str | None) -> None:
+        seen.append(progress)
         assert message == "waiting for run1 to be ingested"
 
     _ingest_later(catalog, steps=4, step_s=0.25)
     async with Client(_server(catalog, budget_s=10), cache=None) as client:
-        answer = await client.call_tool("status_of", {"bag": "run1"}, progress_callback=progress)
+        answer = await client.call_tool("status_of", {"bag": "run1"}, progress_callback=on_progress)
     assert not answer.is_error
     assert text_of(answer) == "ready"
     assert seen[0] == pytest.approx(0.1)
