@@ -18,33 +18,8 @@ import mcp.types as types
 from mcp.server.auth.provider import AccessToken
 
 from bagmcp_gateway.lean import lean_tools
+from bagmcp_gateway.profiles import DEFAULT_PROFILES, Profile
 from bagmcp_gateway.tokens.models import SCOPES
-
-CORE_TOOLS = (  # the paper's ten tasks, each in one or two calls (tests/checks/paper_tasks.py)
-    "list_bags",
-    "bag_info",
-    "search_messages",
-    "filter_bag",
-    "analyze_trajectory",
-    "analyze_lidar_scan",
-    "get_tf_tree",
-    "plot_timeseries",
-    "plot_2d",
-    "plot_lidar_scan",
-    "plot_histogram",
-    "get_job",  # core tools may answer with a job: follow it (cancel_job is in full)
-)
-
-
-@dataclass(frozen=True)
-class Profile:
-    """A named set of tools (globs); ``lean`` lists them as lean.py says, for small models."""
-
-    tools: tuple[str, ...]
-    lean: bool = False
-
-
-DEFAULT_PROFILES: Mapping[str, Profile] = {"full": Profile(("*",)), "core": Profile(CORE_TOOLS, lean=True)}
 
 
 def _any(name: str, globs: Sequence[str]) -> bool:

@@ -12,7 +12,8 @@ import pytest
 from mcp import Client
 from mcp.types import Tool
 
-from bagmcp_gateway.policy import DEFAULT_PROFILES, ToolPolicy, listing_characters
+from bagmcp_gateway.policy import ToolPolicy, listing_characters
+from bagmcp_gateway.profiles import DEFAULT_PROFILES
 from tests.fixtures.inprocess import InProcess
 
 pytestmark = pytest.mark.anyio
