@@ -19,12 +19,13 @@ from bagmcp_kit.answers import tool_errors
 from bagmcp_kit.arguments import READ_ONLY, BagRef, OptionalTopic, TimeArg, params_of
 from bagmcp_kit.jobs import LongAnswer
 from bagmcp_kit.toolsets import BagTools, tool
+from bagmcp_shared.wording import counted
 
 
 def _trajectory_summary(r: TrajectoryReport) -> str:
     return (
         f"{r.topic}: {r.distance_2d_m:.2f} m in {r.duration_s:.2f} s, mean {r.mean_speed_mps or 0:.3f} m/s, "
-        f"max {r.max_speed_mps or 0:.3f} m/s, {len(r.stops)} stops"
+        f"max {r.max_speed_mps or 0:.3f} m/s, {counted(len(r.stops), 'stop')}"
     )
 
 
@@ -38,7 +39,8 @@ def _lidar_summary(r: LidarReport) -> str:
         seen += f", for {first.stays_s:.2f} s"
     elif r.within_m:
         seen = f"; nothing within {r.within_m} m"
-    return f"{r.scans} scans of {r.topic}; closest {r.closest.range_m if r.closest else float('nan'):.3f} m{seen}"
+    nearest = r.closest.range_m if r.closest else float("nan")
+    return f"{counted(r.scans or 0, 'scan')} of {r.topic}; closest {nearest:.3f} m{seen}"
 
 
 class MotionTools(BagTools):

@@ -13,6 +13,7 @@ from bagmcp_kit.answers import run_query
 from bagmcp_kit.arguments import READ_ONLY, BagRef, Offset, TopicName
 from bagmcp_kit.toolsets import tool
 from bagmcp_shared.access import BagAccess
+from bagmcp_shared.wording import counted
 
 
 class CatalogTools:
@@ -32,7 +33,7 @@ class CatalogTools:
         first. Example: name="husky"."""
         return run_query(
             lambda: catalog_queries.list_bags(self._access.catalog, name=name, tag=tag, offset=offset, limit=limit),
-            lambda r: f"{r.total} bags; showing {len(r.bags)} from {r.offset}",
+            lambda r: f"{counted(r.total, 'bag')}; showing {len(r.bags)} from {r.offset}",
         )
 
     @tool(READ_ONLY)
