@@ -68,6 +68,18 @@ class ToolPolicy:
             return False
         return needed_scope(tool) in caller.scopes
 
+    def refusal(self, tool: types.Tool, caller: AccessToken | None) -> str:
+        """Why ``caller`` may not call ``tool``, saying what to do when a scope is all it lacks."""
+        scope = needed_scope(tool)
+        if caller is not None and scope not in caller.scopes:
+            widened = caller.model_copy(update={"scopes": [*caller.scopes, scope]})
+            if self.allows(tool, widened):
+                return (
+                    f"{tool.name} needs the {scope} scope, which this token lacks; an admin can make a token that "
+                    f"has it: bagmcp token create NAME --scopes read,{scope}"
+                )
+        return f"{tool.name} is not enabled for this token (its profile or allow/deny lists)"
+
     def may_read(self, upstream_tools: Sequence[types.Tool], caller: AccessToken | None) -> bool:
         """Whether ``caller`` may list and read the resources of the upstream publishing ``upstream_tools``."""
         if caller is not None and "read" not in caller.scopes:
