@@ -14,6 +14,7 @@ from rosbags.typesys import Stores, get_types_from_idl, get_types_from_msg, get_
 from rosbags.typesys.msg import normalize_msgtype
 from rosbags.typesys.store import Typestore
 
+from bagmcp_shared.bags.foreign import ForeignCodec, foreign_codec
 from bagmcp_shared.bags.models import Connection, Encoding, RawMessage
 from bagmcp_shared.errors import DecodeError
 
@@ -103,6 +104,7 @@ class Decoder:
 
     def __init__(self, connections: Iterable[Connection]) -> None:
         self._stores: dict[str, Typestore] = {}
+        self._foreign: dict[str, ForeignCodec] = {}
         self._problems: dict[str, str] = {}
         for conn in connections:
             if conn.msgtype not in self._stores and conn.msgtype not in self._problems:
@@ -121,6 +123,11 @@ class Decoder:
             raise DecodeError(f"cannot decode messages of type {msgtype}: {reason}")
         return store
 
+    def units(self, msgtype: str) -> dict[str, str]:
+        """Units of field paths that the type's own definition states (DataFlash FMTU); empty for ROS types."""
+        codec = self._foreign.get(msgtype)
+        return dict(codec.units) if codec is not None else {}
+
     def decode(self, raw: RawMessage) -> object:
         """Deserialize one raw message.
 
@@ -128,6 +135,8 @@ class Decoder:
         standard ROS type that does fit, the standard definition is used from then on.
         """
         conn = raw.connection
+        if not conn.encoding.is_ros:
+            return self._decode_foreign(raw)
         try:
             return _deserialize(self.typestore(conn.msgtype), raw)
         except DecodeError:
@@ -135,6 +144,19 @@ class Decoder:
         except Exception as err:  # rosbags raises SerdeError, struct.error, IndexError...
             if (message := self._with_standard_type(raw)) is not None:
                 return message
+            raise DecodeError(
+                f"message of {conn.topic} ({conn.msgtype}) at {raw.log_time_ns} ns could not be decoded: {err}"
+            ) from err
+
+    def _decode_foreign(self, raw: RawMessage) -> object:
+        conn = raw.connection
+        codec = self._foreign.get(conn.msgtype)
+        if codec is None:
+            self.typestore(conn.msgtype)  # raises with the reason
+            raise DecodeError(f"cannot decode messages of type {conn.msgtype}")
+        try:
+            return codec.decode(raw.data)
+        except Exception as err:  # struct, json, protobuf and value errors of a payload that does not fit
             raise DecodeError(
                 f"message of {conn.topic} ({conn.msgtype}) at {raw.log_time_ns} ns could not be decoded: {err}"
             ) from err
@@ -152,7 +174,14 @@ class Decoder:
         return message
 
     def _add(self, conn: Connection) -> None:
-        if conn.definition.strip():
+        if not conn.encoding.is_ros:
+            found = foreign_codec(conn)
+            if isinstance(found, str):
+                self._problems[conn.msgtype] = found
+            else:
+                self._foreign[conn.msgtype] = found
+                self._stores[conn.msgtype] = found.store
+        elif conn.definition.strip():
             self._add_from_definition(conn)
         else:
             self._add_from_standard_types(conn)

@@ -11,6 +11,7 @@ from pathlib import Path
 from types import TracebackType
 from typing import Self
 
+from bagmcp_shared.bags.dataflash_source import open_dataflash
 from bagmcp_shared.bags.decoding import Decoder
 from bagmcp_shared.bags.detect import sniff_file
 from bagmcp_shared.bags.mcap_source import McapSource
@@ -18,6 +19,7 @@ from bagmcp_shared.bags.models import BagFormat, BagSummary, Compression, Connec
 from bagmcp_shared.bags.ros1_source import Ros1Source
 from bagmcp_shared.bags.ros2_dir import open_directory, open_storage_file
 from bagmcp_shared.bags.source import MessageSource
+from bagmcp_shared.bags.ulog_source import open_ulog
 from bagmcp_shared.errors import BagError, BagmcpError, DamagedBagError, TopicNotFoundError
 
 log = logging.getLogger(__name__)
@@ -183,6 +185,10 @@ def _open_source(
         source = Ros1Source(path)
     elif kind is BagFormat.MCAP:
         source = McapSource(path, recover_truncated=recover_truncated)
+    elif kind is BagFormat.ULOG:
+        source = open_ulog(path)
+    elif kind is BagFormat.DATAFLASH:
+        source = open_dataflash(path)
     else:
         source, kind = open_storage_file(path, recover_truncated=recover_truncated)
     stack.callback(source.close)
@@ -190,7 +196,8 @@ def _open_source(
 
 
 def open_bag(path: str | os.PathLike[str], *, recover_truncated: bool = False) -> BagReader:
-    """Open any supported bag: a ROS 1 .bag, a ROS 2 directory, a bare .db3 or .mcap file.
+    """Open any supported bag: a ROS 1 .bag, a ROS 2 directory, a bare .db3 or .mcap file, a PX4 ULog
+    or an ArduPilot DataFlash log.
 
     Raises a :class:`BagError` subclass with a readable message for anything unreadable.
     ``recover_truncated`` accepts an MCAP cut in the middle of a record and keeps what precedes it.
