@@ -28,10 +28,13 @@ Offsets = npt.NDArray[np.int64]
 def _first_field(data: npt.NDArray[np.uint8], offsets: Offsets, width: int) -> npt.NDArray[np.float64]:
     """The unsigned little-endian integer of ``width`` bytes right after each record's 3-byte header."""
     picks = data[(offsets + 3)[:, None] + np.arange(width)]
-    return picks.copy().view(f"<u{width}").reshape(-1).astype(np.float64)
+    values: npt.NDArray[np.float64] = picks.copy().view(f"<u{width}").reshape(-1).astype(np.float64)
+    return values
 
 
-def _own_times(reader: DFReader_binary, data: npt.NDArray[np.uint8], offsets: Offsets, types: Sequence[int]) -> npt.NDArray[np.float64]:
+def _own_times(
+    reader: DFReader_binary, data: npt.NDArray[np.uint8], offsets: Offsets, types: Sequence[int]
+) -> npt.NDArray[np.float64]:
     """Seconds from each record's own time field (the clock's timebase added); NaN where it has none.
     Millisecond ``TimeMS`` is marked with a negative sign to be checked against the running time."""
     clock = reader.clock
@@ -65,10 +68,10 @@ def _start(reader: DFReader_binary) -> float:
 
 
 def _walked(reader: DFReader_binary, offsets: Offsets) -> npt.NDArray[np.float64]:
-    reader._rewind(keep_messages=True)  # noqa: SLF001 (pymavlink's own way to restart a walk)
+    reader._rewind(keep_messages=True)
     found: dict[int, float] = {}
     while (message := reader.recv_msg()) is not None:
-        found[reader.offset - message.fmt.len] = float(message._timestamp)  # noqa: SLF001
+        found[reader.offset - message.fmt.len] = float(message._timestamp)
     return np.asarray([found.get(int(o), np.nan) for o in offsets])
 
 

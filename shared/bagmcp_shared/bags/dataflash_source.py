@@ -79,7 +79,13 @@ def _connection(reader: DFReader_binary, number: int, mtype: int, count: int) ->
 
 def _notes(reader: DFReader_binary, dropped: int) -> list[str]:
     clock = reader.clock
-    field = "TimeUS" if isinstance(clock, DFReaderClock_usec) else "TimeMS" if isinstance(clock, DFReaderClock_msec) else "GPS"
+    field = (
+        "TimeUS"
+        if isinstance(clock, DFReaderClock_usec)
+        else "TimeMS"
+        if isinstance(clock, DFReaderClock_msec)
+        else "GPS"
+    )
     notes = [f"ArduPilot DataFlash log; message times from {field} (pymavlink's clock)"]
     if clock.timebase > 0:
         notes.append("times are UTC: pymavlink placed the log's boot clock on GPS time")
@@ -98,7 +104,9 @@ def open_dataflash(path: Path) -> TableSource:
         times_ns = np.round(record_times_s(reader, offsets, types.tolist()) * 1e9).astype(np.int64)
     except Exception as err:
         reader.close()
-        raise DamagedBagError(f"{path}: the DataFlash log's records are inconsistent ({err}); use an intact copy") from err
+        raise DamagedBagError(
+            f"{path}: the DataFlash log's records are inconsistent ({err}); use an intact copy"
+        ) from err
     data: mmap.mmap = reader.data_map
     streams: list[Stream] = []
     for number, mtype in enumerate(sorted(set(types.tolist())), start=1):
@@ -112,4 +120,6 @@ def open_dataflash(path: Path) -> TableSource:
 
         streams.append(Stream(_connection(reader, number, mtype, len(order)), times_ns[order], payload))
     dropped = sum(len(o) for o in reader.offsets) - len(offsets)
-    return TableSource(sorted(streams, key=lambda s: s.connection.topic), notes=_notes(reader, dropped), close=reader.close)
+    return TableSource(
+        sorted(streams, key=lambda s: s.connection.topic), notes=_notes(reader, dropped), close=reader.close
+    )

@@ -52,7 +52,7 @@ def _converter(code: str) -> Callable[[object], object]:
     if code in _TEXT:
         return lambda v: _text(v)  # type: ignore[arg-type]
     if code == "a":
-        return lambda v: np.frombuffer(v, dtype="<i2").copy()  # type: ignore[arg-type]
+        return lambda v: np.frombuffer(v, dtype="<i2").copy()  # type: ignore[call-overload]
     if multiplier is not None and 0 < multiplier < 1:
         divisor = 1 / multiplier  # pymavlink divides: 1e7 gives exact degrees where 1e-7 would not
         return lambda v: float(v) / divisor  # type: ignore[arg-type]

@@ -14,8 +14,9 @@ from rosbags.typesys import Stores, get_types_from_idl, get_types_from_msg, get_
 from rosbags.typesys.msg import normalize_msgtype
 from rosbags.typesys.store import Typestore
 
-from bagmcp_shared.bags.foreign import ForeignCodec, foreign_codec
+from bagmcp_shared.bags.foreign import foreign_codec
 from bagmcp_shared.bags.models import Connection, Encoding, RawMessage
+from bagmcp_shared.bags.plain_types import ForeignCodec
 from bagmcp_shared.errors import DecodeError
 
 _IDL_SEPARATOR = "=" * 80 + "\n"

@@ -38,3 +38,11 @@ def sniff_file(path: Path) -> BagFormat:
         f"{path}: not a ROS bag or flight log (unknown file signature {head[:8]!r}); bagmcp reads ROS 1 .bag, "
         "ROS 2 .db3/.mcap bag directories, bare .mcap files, PX4 .ulg and ArduPilot DataFlash .bin logs"
     )
+
+
+def is_dataflash(path: Path) -> bool:
+    """A ``.bin`` file that starts like a DataFlash log (other ``.bin`` files in a folder are not bags)."""
+    try:
+        return sniff_file(path) is BagFormat.DATAFLASH
+    except BagError:
+        return False

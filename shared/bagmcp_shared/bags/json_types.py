@@ -95,12 +95,12 @@ class _Types:
             converters.append((str(key), fname, convert))
         self.types[name] = tuple(fields)
 
-        def convert(value: object) -> object:
+        def to_values(value: object) -> object:
             if not isinstance(value, Mapping):
                 return None
             return {fname: conv(value.get(key)) for key, fname, conv in converters}
 
-        return convert
+        return to_values
 
     def field(self, nested: str, fname: str, schema: Schema, depth: int) -> tuple[PlainField, Convert]:
         kind = _type_of(schema)

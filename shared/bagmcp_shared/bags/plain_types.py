@@ -88,7 +88,7 @@ def _node(field: PlainField) -> tuple[Any, ...]:
 def plain_store(types: PlainTypes) -> Typestore:
     """A typestore holding exactly ``types`` (nested types must be among them)."""
     store = get_typestore(Stores.EMPTY)
-    store.register({name: ([], [(f.name, _node(f)) for f in fields]) for name, fields in types})  # type: ignore[dict-item]
+    store.register({name: ([], [(f.name, _node(f)) for f in fields]) for name, fields in types})
     return store
 
 

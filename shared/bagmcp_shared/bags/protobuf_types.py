@@ -13,9 +13,9 @@ import base64
 from collections.abc import Callable
 
 import numpy as np
-from google.protobuf import descriptor_pb2, descriptor_pool, message_factory, text_format
-from google.protobuf.descriptor import Descriptor, FieldDescriptor
-from google.protobuf.message import Message
+from google.protobuf import descriptor_pb2, descriptor_pool, message_factory, text_format  # type: ignore[import-untyped]
+from google.protobuf.descriptor import Descriptor, FieldDescriptor  # type: ignore[import-untyped]
+from google.protobuf.message import Message  # type: ignore[import-untyped]
 
 from bagmcp_shared.bags.plain_types import Builder, ForeignCodec, PlainField, field_name, plain_store, type_name
 
@@ -40,10 +40,6 @@ _SCALARS = {
 Convert = Callable[[object], object]
 
 
-def _repeated(field: FieldDescriptor) -> bool:
-    return bool(field.label == FieldDescriptor.LABEL_REPEATED)
-
-
 class _Types:
     def __init__(self) -> None:
         self.types: dict[str, tuple[PlainField, ...]] = {}
@@ -59,30 +55,56 @@ class _Types:
             converters.append((field.name, fname, convert))
         self.types.setdefault(name, tuple(fields))
 
-        def convert(value: object) -> object:
+        def to_values(value: object) -> object:
             assert isinstance(value, Message)
             return {fname: conv(getattr(value, key)) for key, fname, conv in converters}
 
-        return convert
+        return to_values
 
     def _field(self, fname: str, field: FieldDescriptor, depth: int) -> tuple[PlainField, Convert]:
-        size = 0 if _repeated(field) else None
+        repeated = field.label == FieldDescriptor.LABEL_REPEATED
+        size = 0 if repeated else None
         if field.type == FieldDescriptor.TYPE_MESSAGE and field.message_type is not None:
             if depth >= MAX_DEPTH:
-                text: Convert = lambda v: text_format.MessageToString(v, as_one_line=True)  # noqa: E731
-                return PlainField(fname, "string", size), (lambda v: [text(i) for i in v]) if size == 0 else text  # type: ignore[attr-defined]
+                return PlainField(fname, "string", size), _each(_as_text) if repeated else _as_text
             inner = self.message(field.message_type, depth + 1)
-            many: Convert = lambda v: [inner(item) for item in v]  # type: ignore[attr-defined]  # noqa: E731
-            return PlainField(fname, type_name(field.message_type.full_name), size), many if size == 0 else inner
+            return PlainField(fname, type_name(field.message_type.full_name), size), _each(inner) if repeated else inner
         if field.type == FieldDescriptor.TYPE_BYTES:
-            as_bytes: Convert = lambda v: np.frombuffer(bytes(v), dtype=np.uint8)  # type: ignore[call-overload]  # noqa: E731
-            if size == 0:
-                return PlainField(fname, "string", 0), lambda v: [f"<{len(i)} bytes>" for i in v]  # type: ignore[attr-defined]
-            return PlainField(fname, "uint8", 0), as_bytes
+            if repeated:
+                return PlainField(fname, "string", 0), _each(_bytes_note)
+            return PlainField(fname, "uint8", 0), _as_bytes
         kind = _SCALARS[field.type]
-        if size == 0:
-            return PlainField(fname, kind, 0), lambda v: list(v) if kind == "string" else np.asarray(list(v), dtype=kind if kind != "bool" else np.bool_)  # type: ignore[call-overload]
-        return PlainField(fname, kind), lambda v: v
+        if repeated:
+            return PlainField(fname, kind, 0), _each(_same) if kind == "string" else _numbers(kind)
+        return PlainField(fname, kind), _same
+
+
+def _same(value: object) -> object:
+    return value
+
+
+def _as_text(value: object) -> object:
+    return text_format.MessageToString(value, as_one_line=True)
+
+
+def _as_bytes(value: object) -> object:
+    return np.frombuffer(bytes(value), dtype=np.uint8)  # type: ignore[call-overload]
+
+
+def _bytes_note(value: object) -> object:
+    return f"<{len(bytes(value))} bytes>"  # type: ignore[call-overload]
+
+
+def _each(convert: Convert) -> Convert:
+    def each(values: object) -> object:
+        return [convert(v) for v in values]  # type: ignore[attr-defined]
+
+    return each
+
+
+def _numbers(kind: str) -> Convert:
+    dtype = np.dtype(np.bool_ if kind == "bool" else kind)
+    return lambda values: np.asarray(list(values), dtype=dtype)  # type: ignore[call-overload]
 
 
 def protobuf_codec(msgtype: str, definition: str) -> ForeignCodec:

@@ -38,7 +38,9 @@ def listed_payloads(items: Sequence[bytes]) -> Callable[[int], bytes]:
 class TableSource:
     """A MessageSource over streams (see ``source.MessageSource``)."""
 
-    def __init__(self, streams: Sequence[Stream], *, notes: Sequence[str] = (), close: Callable[[], None] = lambda: None):
+    def __init__(
+        self, streams: Sequence[Stream], *, notes: Sequence[str] = (), close: Callable[[], None] = lambda: None
+    ):
         self._streams = {s.connection.id: s for s in streams}
         self._connections = [s.connection for s in streams]
         self._notes = list(notes)

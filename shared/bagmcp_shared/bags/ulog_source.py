@@ -35,7 +35,8 @@ LOGGED_TYPE = f"{PREFIX}logged_message"
 PARAMETER_TYPE = f"{PREFIX}parameter"
 LEVEL_NAMES = ("EMERGENCY", "ALERT", "CRITICAL", "ERROR", "WARNING", "NOTICE", "INFO", "DEBUG")
 _LOGGED_SCHEMA = schema_text(
-    LOGGED_TYPE, {"timestamp": "integer", "log_level": "integer", "level": "string", "tag": "integer", "message": "string"}
+    LOGGED_TYPE,
+    {"timestamp": "integer", "log_level": "integer", "level": "string", "tag": "integer", "message": "string"},
 )
 _PARAMETER_SCHEMA = schema_text(
     PARAMETER_TYPE, {"timestamp": "integer", "name": "string", "value": "number", "initial": "boolean"}
@@ -51,7 +52,9 @@ def _parse(path: Path) -> tuple[ULog, str]:
             ulog = ULog(str(path))
     except Exception as err:  # pyulog raises struct, index, value and its own errors on bad bytes
         detail = str(err).strip().splitlines()[0] if str(err).strip() else type(err).__name__
-        raise DamagedBagError(f"{path}: the ULog file is damaged and cannot be read ({detail}); use an intact copy") from err
+        raise DamagedBagError(
+            f"{path}: the ULog file is damaged and cannot be read ({detail}); use an intact copy"
+        ) from err
     return ulog, printed.getvalue()
 
 
@@ -115,7 +118,9 @@ def _logged(ulog: ULog) -> list[dict[str, object]]:
             level = m.log_level - 48 if 48 <= m.log_level <= 55 else m.log_level  # ASCII digits '0'..'7'
             name = LEVEL_NAMES[level] if 0 <= level < len(LEVEL_NAMES) else "UNKNOWN"
             tag = None if tagged is None else int(tagged[0])
-            rows.append({"timestamp": int(m.timestamp), "log_level": level, "level": name, "tag": tag, "message": m.message})
+            rows.append(
+                {"timestamp": int(m.timestamp), "log_level": level, "level": name, "tag": tag, "message": m.message}
+            )
     return rows
 
 
@@ -125,7 +130,9 @@ def _parameters(ulog: ULog) -> list[dict[str, object]]:
         {"timestamp": start, "name": name, "value": float(value), "initial": True}
         for name, value in sorted(ulog.initial_parameters.items())
     ]
-    rows += [{"timestamp": int(t), "name": n, "value": float(v), "initial": False} for t, n, v in ulog.changed_parameters]
+    rows += [
+        {"timestamp": int(t), "name": n, "value": float(v), "initial": False} for t, n, v in ulog.changed_parameters
+    ]
     return rows
 
 
@@ -144,7 +151,8 @@ def _notes(ulog: ULog, offset_us: int | None, printed: str) -> list[str]:
         notes.append("the log has appended data sections; they were read")
     if ulog.file_corruption or printed.strip():
         notes.append("pyulog skipped corrupt data in the file: " + " ".join(printed.split())[:300])
-    notes.append(f"topic {PARAMETER_TOPIC}: {len(ulog.initial_parameters)} initial values, {len(ulog.changed_parameters)} changes")
+    initial, changed = len(ulog.initial_parameters), len(ulog.changed_parameters)
+    notes.append(f"topic {PARAMETER_TOPIC}: {initial} initial values, {changed} changes")
     return notes
 
 
@@ -159,5 +167,7 @@ def open_ulog(path: Path) -> TableSource:
     number = len(ordered)
     logged, parameters = _logged(ulog), _parameters(ulog)
     streams.append(_json_stream(number + 1, LOGGED_TOPIC, LOGGED_TYPE, _LOGGED_SCHEMA, logged, shift, start))
-    streams.append(_json_stream(number + 2, PARAMETER_TOPIC, PARAMETER_TYPE, _PARAMETER_SCHEMA, parameters, shift, start))
+    streams.append(
+        _json_stream(number + 2, PARAMETER_TOPIC, PARAMETER_TYPE, _PARAMETER_SCHEMA, parameters, shift, start)
+    )
     return TableSource(streams, notes=_notes(ulog, offset, printed))
