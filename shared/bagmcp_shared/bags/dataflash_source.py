@@ -101,7 +101,12 @@ def open_dataflash(path: Path) -> TableSource:
     reader = _open(path)
     try:
         offsets, types = _records(reader)
+        if not len(offsets):
+            raise DamagedBagError(f"{path}: the DataFlash log holds no complete record; use an intact copy")
         times_ns = np.round(record_times_s(reader, offsets, types.tolist()) * 1e9).astype(np.int64)
+    except DamagedBagError:
+        reader.close()
+        raise
     except Exception as err:
         reader.close()
         raise DamagedBagError(

@@ -62,7 +62,7 @@ class _Types:
         return to_values
 
     def _field(self, fname: str, field: FieldDescriptor, depth: int) -> tuple[PlainField, Convert]:
-        repeated = field.label == FieldDescriptor.LABEL_REPEATED
+        repeated = _repeated(field)
         size = 0 if repeated else None
         if field.type == FieldDescriptor.TYPE_MESSAGE and field.message_type is not None:
             if depth >= MAX_DEPTH:
@@ -77,6 +77,13 @@ class _Types:
         if repeated:
             return PlainField(fname, kind, 0), _each(_same) if kind == "string" else _numbers(kind)
         return PlainField(fname, kind), _same
+
+
+def _repeated(field: FieldDescriptor) -> bool:
+    """protobuf 6.31 added ``is_repeated`` and 7 dropped ``label``."""
+    if hasattr(field, "is_repeated"):
+        return bool(field.is_repeated)
+    return bool(field.label == FieldDescriptor.LABEL_REPEATED)
 
 
 def _same(value: object) -> object:

@@ -159,6 +159,10 @@ def _notes(ulog: ULog, offset_us: int | None, printed: str) -> list[str]:
 def open_ulog(path: Path) -> TableSource:
     """A source over a ULog file; DamagedBagError when pyulog cannot parse it."""
     ulog, printed = _parse(path)
+    if not ulog.message_formats:
+        raise DamagedBagError(
+            f"{path}: the ULog file holds no message formats (cut off after its header?); use an intact copy"
+        )
     formats = {name: list(fmt.fields) for name, fmt in ulog.message_formats.items()}
     offset = utc_offset_us(ulog)
     shift, start = offset or 0, int(ulog.start_timestamp)

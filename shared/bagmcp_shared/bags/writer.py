@@ -186,6 +186,11 @@ def _plan(reader: BagReader, spec: FilterSpec, fmt: OutputFormat) -> dict[int, _
     """Source connection id -> how its messages are written."""
     selected = _select(reader, spec)
     periods = _periods(reader, spec, selected)
+    if fmt is OutputFormat.MCAP_JSON and all(c.encoding.is_ros for c in reader.connections):
+        raise FilterError(
+            f"{reader.path.name} holds ROS messages only; write it as ros1, ros2-sqlite3 or ros2-mcap "
+            "(mcap-json is for flight logs and MCAP with non-ROS messages)"
+        )
     plan: dict[int, _Stream] = {}
     for conn in selected:
         convert: Convert | None
