@@ -9,10 +9,8 @@ carries the vehicle's mode names (pymavlink's table for the vehicle type the log
 
 from __future__ import annotations
 
-import io
 import json
 import mmap
-from contextlib import redirect_stderr, redirect_stdout
 from pathlib import Path
 
 import numpy as np
@@ -22,17 +20,17 @@ from pymavlink.DFReader import DFReader_binary, DFReaderClock_msec, DFReaderCloc
 from bagmcp_shared.bags.dataflash_clock import record_times_s
 from bagmcp_shared.bags.dataflash_types import PREFIX, definition_json
 from bagmcp_shared.bags.models import Connection, Encoding
+from bagmcp_shared.bags.quiet import library_output, printed_note
 from bagmcp_shared.bags.table_source import Stream, TableSource
 from bagmcp_shared.errors import DamagedBagError
 
 MODE_NAMES = "mode_names"
+MAX_TIME_S = 9e9  # nanoseconds past this do not fit in 64 bits (the year 2255)
 
 
 def _open(path: Path) -> DFReader_binary:
-    printed = io.StringIO()
     try:
-        with redirect_stdout(printed), redirect_stderr(printed):
-            return DFReader_binary(str(path), zero_time_base=False)
+        return DFReader_binary(str(path), zero_time_base=False)
     except Exception as err:  # pymavlink raises assertion, struct and its own errors on bad bytes
         detail = str(err).strip().splitlines()[0] if str(err).strip() else type(err).__name__
         raise DamagedBagError(
@@ -77,7 +75,7 @@ def _connection(reader: DFReader_binary, number: int, mtype: int, count: int) ->
     )
 
 
-def _notes(reader: DFReader_binary, dropped: int) -> list[str]:
+def _notes(reader: DFReader_binary, dropped: int, printed: str) -> list[str]:
     clock = reader.clock
     field = (
         "TimeUS"
@@ -93,17 +91,21 @@ def _notes(reader: DFReader_binary, dropped: int) -> list[str]:
         notes.append("the log has no GPS time: times are seconds since the flight controller booted, not UTC")
     if dropped:
         notes.append(f"{dropped} records cut off at the end of the file were left out")
-    return notes
+    said = printed_note(printed, library="pymavlink")
+    return [*notes, said] if said else notes
 
 
-def open_dataflash(path: Path) -> TableSource:
-    """A source over a DataFlash .bin log; DamagedBagError when pymavlink cannot index it."""
+def _index(path: Path) -> tuple[DFReader_binary, np.ndarray, np.ndarray, np.ndarray]:
+    """pymavlink's reader, and the offsets, types and times (ns) of every record in file order."""
     reader = _open(path)
     try:
         offsets, types = _records(reader)
         if not len(offsets):
             raise DamagedBagError(f"{path}: the DataFlash log holds no complete record; use an intact copy")
-        times_ns = np.round(record_times_s(reader, offsets, types.tolist()) * 1e9).astype(np.int64)
+        times_s = record_times_s(reader, offsets, types.tolist())
+        timed = np.abs(times_s) < MAX_TIME_S  # not NaN (pymavlink's walk skipped it) nor a damaged time
+        offsets, types = offsets[timed], types[timed]
+        times_ns = np.round(times_s[timed] * 1e9).astype(np.int64)
     except DamagedBagError:
         reader.close()
         raise
@@ -112,6 +114,13 @@ def open_dataflash(path: Path) -> TableSource:
         raise DamagedBagError(
             f"{path}: the DataFlash log's records are inconsistent ({err}); use an intact copy"
         ) from err
+    return reader, offsets, types, times_ns
+
+
+def open_dataflash(path: Path) -> TableSource:
+    """A source over a DataFlash .bin log; DamagedBagError when pymavlink cannot index it."""
+    with library_output() as printed:
+        reader, offsets, types, times_ns = _index(path)
     data: mmap.mmap = reader.data_map
     streams: list[Stream] = []
     for number, mtype in enumerate(sorted(set(types.tolist())), start=1):
@@ -125,6 +134,5 @@ def open_dataflash(path: Path) -> TableSource:
 
         streams.append(Stream(_connection(reader, number, mtype, len(order)), times_ns[order], payload))
     dropped = sum(len(o) for o in reader.offsets) - len(offsets)
-    return TableSource(
-        sorted(streams, key=lambda s: s.connection.topic), notes=_notes(reader, dropped), close=reader.close
-    )
+    notes = _notes(reader, dropped, printed.getvalue())
+    return TableSource(sorted(streams, key=lambda s: s.connection.topic), notes=notes, close=reader.close)

@@ -14,9 +14,7 @@ become notes instead of reaching stdout (which carries MCP in stdio mode).
 
 from __future__ import annotations
 
-import io
 import json
-from contextlib import redirect_stdout
 from pathlib import Path
 
 import numpy as np
@@ -25,6 +23,7 @@ from pyulog import ULog  # type: ignore[import-untyped]
 
 from bagmcp_shared.bags.json_types import schema_text
 from bagmcp_shared.bags.models import Connection, Encoding
+from bagmcp_shared.bags.quiet import library_output, printed_note
 from bagmcp_shared.bags.table_source import Stream, TableSource, listed_payloads, packed_payloads
 from bagmcp_shared.bags.ulog_types import PREFIX, Format, definition_text
 from bagmcp_shared.errors import DamagedBagError
@@ -46,9 +45,8 @@ _YEAR_2000_US = 946_684_800_000_000
 
 
 def _parse(path: Path) -> tuple[ULog, str]:
-    printed = io.StringIO()
     try:
-        with redirect_stdout(printed):
+        with library_output() as printed:
             ulog = ULog(str(path))
     except Exception as err:  # pyulog raises struct, index, value and its own errors on bad bytes
         detail = str(err).strip().splitlines()[0] if str(err).strip() else type(err).__name__
@@ -149,8 +147,11 @@ def _notes(ulog: ULog, offset_us: int | None, printed: str) -> list[str]:
         notes.append(f"{len(ulog.dropouts)} dropouts: the logger lost {lost} ms of data in all")
     if ulog.has_data_appended:
         notes.append("the log has appended data sections; they were read")
-    if ulog.file_corruption or printed.strip():
-        notes.append("pyulog skipped corrupt data in the file: " + " ".join(printed.split())[:300])
+    said = printed_note(printed, library="pyulog")
+    if said is not None:
+        notes.append(said)
+    elif ulog.file_corruption:
+        notes.append("pyulog found corrupt data in the file and skipped it")
     initial, changed = len(ulog.initial_parameters), len(ulog.changed_parameters)
     notes.append(f"topic {PARAMETER_TOPIC}: {initial} initial values, {changed} changes")
     return notes
