@@ -4,7 +4,6 @@ gateway over a served folder (which also holds a firmware .bin that is not liste
 from __future__ import annotations
 
 from collections.abc import Iterator
-from pathlib import Path
 
 import pytest
 from mcp import Client
