@@ -15,7 +15,7 @@ import json
 from dataclasses import dataclass
 
 from bagmcp_shared.bags import BagReader
-from bagmcp_shared.bags.dataflash_source import MODE_NAMES
+from bagmcp_shared.bags.models import MODE_NAMES
 
 # PX4 vehicle_status NAVIGATION_STATE_* (msg/VehicleStatus.msg); 6-9, 11 and 16 are retired names
 PX4_NAV_STATES = {

@@ -19,12 +19,11 @@ from pymavlink.DFReader import DFReader_binary, DFReaderClock_msec, DFReaderCloc
 
 from bagmcp_shared.bags.dataflash_clock import record_times_s
 from bagmcp_shared.bags.dataflash_types import PREFIX, definition_json
-from bagmcp_shared.bags.models import Connection, Encoding
+from bagmcp_shared.bags.models import MODE_NAMES, Connection, Encoding
 from bagmcp_shared.bags.quiet import library_output, printed_note
 from bagmcp_shared.bags.table_source import Stream, TableSource
 from bagmcp_shared.errors import DamagedBagError
 
-MODE_NAMES = "mode_names"
 MAX_TIME_S = 9e9  # nanoseconds past this do not fit in 64 bits (the year 2255)
 
 

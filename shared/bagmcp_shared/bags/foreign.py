@@ -8,29 +8,35 @@ units the definition states. Codecs are kept per definition (at most 512), like 
 from __future__ import annotations
 
 import functools
+import importlib
 from collections.abc import Callable
+from typing import cast
 
-from bagmcp_shared.bags.data_tamer_types import data_tamer_codec
-from bagmcp_shared.bags.dataflash_types import dataflash_codec
-from bagmcp_shared.bags.json_types import json_codec
 from bagmcp_shared.bags.models import Connection, Encoding
 from bagmcp_shared.bags.plain_types import ForeignCodec
-from bagmcp_shared.bags.protobuf_types import protobuf_codec
-from bagmcp_shared.bags.ulog_types import ulog_codec
 
-_MAKERS: dict[Encoding, Callable[[str, str], ForeignCodec]] = {
-    Encoding.ULOG: ulog_codec,
-    Encoding.DATAFLASH: dataflash_codec,
-    Encoding.JSON: json_codec,
-    Encoding.PROTOBUF: protobuf_codec,
-    Encoding.DATA_TAMER: data_tamer_codec,
+# Imported when first needed: pymavlink and protobuf take about 0.3 s to import, which every `bagmcp`
+# command and every service start would otherwise pay for formats it may never see.
+_MAKERS = {
+    Encoding.ULOG: ("ulog_types", "ulog_codec"),
+    Encoding.DATAFLASH: ("dataflash_types", "dataflash_codec"),
+    Encoding.JSON: ("json_types", "json_codec"),
+    Encoding.PROTOBUF: ("protobuf_types", "protobuf_codec"),
+    Encoding.DATA_TAMER: ("data_tamer_types", "data_tamer_codec"),
 }
+
+
+def _maker(encoding: Encoding) -> Callable[[str, str], ForeignCodec]:
+    module, name = _MAKERS[encoding]
+    return cast(
+        Callable[[str, str], ForeignCodec], getattr(importlib.import_module(f"bagmcp_shared.bags.{module}"), name)
+    )
 
 
 @functools.lru_cache(maxsize=512)
 def _codec(encoding: Encoding, msgtype: str, definition: str) -> ForeignCodec | str:
     try:
-        return _MAKERS[encoding](msgtype, definition)
+        return _maker(encoding)(msgtype, definition)
     except Exception as err:  # parsers of several libraries, each with its own errors
         first_line = str(err).strip().splitlines()[0] if str(err).strip() else type(err).__name__
         return f"its stored {encoding.value} definition could not be read ({first_line})"

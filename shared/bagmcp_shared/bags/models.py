@@ -103,6 +103,9 @@ class Connection:
         return meta.get("latching") == "1" or "durability: 1" in qos or "transient_local" in qos
 
 
+MODE_NAMES = "mode_names"  # metadata of a DataFlash MODE connection: its mode numbers' names (JSON)
+
+
 class RawMessage(NamedTuple):
     """A serialized message as stored, with its log (receive) time."""
 

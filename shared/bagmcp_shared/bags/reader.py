@@ -11,7 +11,6 @@ from pathlib import Path
 from types import TracebackType
 from typing import Self
 
-from bagmcp_shared.bags.dataflash_source import open_dataflash
 from bagmcp_shared.bags.decoding import Decoder
 from bagmcp_shared.bags.detect import sniff_file
 from bagmcp_shared.bags.mcap_source import McapSource
@@ -19,7 +18,6 @@ from bagmcp_shared.bags.models import BagFormat, BagSummary, Compression, Connec
 from bagmcp_shared.bags.ros1_source import Ros1Source
 from bagmcp_shared.bags.ros2_dir import open_directory, open_storage_file
 from bagmcp_shared.bags.source import MessageSource
-from bagmcp_shared.bags.ulog_source import open_ulog
 from bagmcp_shared.errors import BagError, BagmcpError, DamagedBagError, TopicNotFoundError
 
 log = logging.getLogger(__name__)
@@ -174,6 +172,17 @@ class BagReader:
         self.close()
 
 
+def _open_flight_log(path: Path, kind: BagFormat) -> MessageSource:
+    """pyulog and pymavlink are imported here, when a flight log is opened (about 0.3 s; see foreign.py)."""
+    if kind is BagFormat.ULOG:
+        from bagmcp_shared.bags.ulog_source import open_ulog
+
+        return open_ulog(path)
+    from bagmcp_shared.bags.dataflash_source import open_dataflash
+
+    return open_dataflash(path)
+
+
 def _open_source(
     path: Path, stack: ExitStack, *, recover_truncated: bool, workspace: Path | None
 ) -> tuple[MessageSource, BagFormat, list[Path]]:
@@ -185,10 +194,8 @@ def _open_source(
         source = Ros1Source(path)
     elif kind is BagFormat.MCAP:
         source = McapSource(path, recover_truncated=recover_truncated)
-    elif kind is BagFormat.ULOG:
-        source = open_ulog(path)
-    elif kind is BagFormat.DATAFLASH:
-        source = open_dataflash(path)
+    elif kind.is_flight_log:
+        source = _open_flight_log(path, kind)
     else:
         source, kind = open_storage_file(path, recover_truncated=recover_truncated)
     stack.callback(source.close)
