@@ -45,10 +45,8 @@ FLIGHT_FIXES: dict[str, tuple[FixSource, ...]] = {
     "ardupilot/POS": (FixSource("Lat", "Lng", "Alt"),),  # the EKF's position: no fix status
     "ardupilot/GPS": (FixSource("Lat", "Lng", "Alt", "Status", 3.0),),  # Status 3: a 3D fix
 }
-# Local positions (metres, x north, y east, z down) with a heading (rad): type -> (x, y, z, yaw)
-FLIGHT_POSES: dict[str, tuple[str, str, str, str]] = {
-    "px4/vehicle_local_position": ("x", "y", "z", "heading"),
-}
+# Local positions (metres, x north, y east, z down) and their heading field (rad; PX4 before 1.13: ``yaw``)
+FLIGHT_POSES: dict[str, tuple[str, ...]] = {"px4/vehicle_local_position": ("heading", "yaw")}
 # Preferred first: an estimator's position, then raw GPS.
 FLIGHT_POSE_ORDER = (
     "px4/vehicle_local_position",
@@ -61,7 +59,9 @@ FLIGHT_POSE_ORDER = (
 
 _XYZ = ("x", "y", "z")
 FLIGHT_COLUMNS: dict[str, tuple[tuple[str, ...], ...]] = {
-    "px4/vehicle_local_position": (("x", "y", "z", "vx", "vy", "vz", "heading", "xy_valid", "z_valid"),),
+    "px4/vehicle_local_position": tuple(
+        ("x", "y", "z", "vx", "vy", "vz", heading, "xy_valid", "z_valid") for heading in ("heading", "yaw")
+    ),
     "px4/vehicle_local_position_setpoint": (("x", "y", "z", "vx", "vy", "vz", "yaw"),),
     "px4/trajectory_setpoint": (
         (*(f"position[{i}]" for i in range(3)), *(f"velocity[{i}]" for i in range(3)), "yaw"),
@@ -99,6 +99,11 @@ def _fits(store: Typestore, msgtype: str, columns: tuple[str, ...] | list[str]) 
 def flight_columns(store: Typestore, msgtype: str) -> tuple[str, ...] | None:
     """The index columns of a flight type, in the variant its definition has; None when none fits."""
     return next((c for c in FLIGHT_COLUMNS.get(msgtype, ()) if _fits(store, msgtype, c)), None)
+
+
+def heading_field(store: Typestore, msgtype: str) -> str | None:
+    """The heading field of a flight local-position type, in the variant its definition has."""
+    return next((f for f in FLIGHT_POSES.get(msgtype, ()) if _fits(store, msgtype, [f])), None)
 
 
 def fix_source(store: Typestore, msgtype: str) -> FixSource | None:

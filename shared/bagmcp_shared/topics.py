@@ -7,7 +7,14 @@ from dataclasses import dataclass
 
 from bagmcp_shared.access import OpenBag
 from bagmcp_shared.errors import ArgumentError
-from bagmcp_shared.flight_types import FLIGHT_FIXES, FLIGHT_POSE_ORDER, FLIGHT_POSES, FixSource, fix_source
+from bagmcp_shared.flight_types import (
+    FLIGHT_FIXES,
+    FLIGHT_POSE_ORDER,
+    FLIGHT_POSES,
+    FixSource,
+    fix_source,
+    heading_field,
+)
 
 SCAN = "sensor_msgs/msg/LaserScan"
 CLOUD = "sensor_msgs/msg/PointCloud2"
@@ -37,13 +44,17 @@ POSE_SOURCES: dict[str, PoseSource] = {  # in order of preference; GPS-like type
     "geometry_msgs/msg/PoseStamped": PoseSource("pose.position", "pose.orientation"),
     "geometry_msgs/msg/TransformStamped": PoseSource("transform.translation", "transform.rotation"),
     GPS: PoseSource("", None),
-    **{
-        t: PoseSource("", None, FLIGHT_POSES[t][3]) if t in FLIGHT_POSES else PoseSource("", None)
-        for t in FLIGHT_POSE_ORDER
-    },
+    **dict.fromkeys(FLIGHT_POSE_ORDER, PoseSource("", None)),  # x, y, z top level; the heading: pose_source
 }
 _PREFERENCE = list(POSE_SOURCES)
 NAVSATFIX = FixSource("latitude", "longitude", "altitude", "status.status", 0.0)
+
+
+def pose_source(ob: OpenBag, msgtype: str) -> PoseSource:
+    """Where ``msgtype`` keeps its pose; a flight local position's heading field depends on the log's version."""
+    if msgtype in FLIGHT_POSES:
+        return PoseSource("", None, heading_field(ob.reader.decoder.typestore(msgtype), msgtype))
+    return POSE_SOURCES[msgtype]
 
 
 def is_fix(msgtype: str) -> bool:

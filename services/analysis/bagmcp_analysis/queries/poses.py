@@ -14,7 +14,7 @@ from bagmcp_shared.index import read_series
 from bagmcp_shared.jobs import Progress
 from bagmcp_shared.local_fixes import read_local_fixes
 from bagmcp_shared.timebase import MAX_CLOCK_SKEW_NS
-from bagmcp_shared.topics import POSE_SOURCES, is_fix
+from bagmcp_shared.topics import is_fix, pose_source
 
 MAX_RATE_RATIO = 20.0  # header time may run slower or faster than log time (a simulation), but not by more
 
@@ -52,7 +52,7 @@ def pose_clock(
 
 def read_poses(ob: OpenBag, topic: str, msgtype: str, lo: int, hi: int, progress: Progress) -> Poses:
     """The topic's poses in [lo, hi] as a Track in metres, on header stamps when they are sane."""
-    source = POSE_SOURCES[msgtype]
+    source = pose_source(ob, msgtype)
     notes: list[str] = []
     if is_fix(msgtype):
         fixes = read_local_fixes(ob, topic, lo, hi, progress)
