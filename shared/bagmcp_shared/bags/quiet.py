@@ -4,7 +4,9 @@ pyulog prints warnings about corrupt data to stdout, which carries MCP in ``bagm
 prints to both, and its C indexer writes one line to file descriptor 2 for every damaged byte it skips
 (thousands for a damaged log). While a log is opened, Python's streams and descriptor 2 go to a
 buffer; the caller turns what was printed into a note. Lines the libraries did not write (another thread
-logging at the same moment) are passed on to the real stderr afterwards, so nothing else is lost.
+logging at the same moment) are passed on to the real stderr afterwards, so nothing else is lost. One log
+is opened this way at a time (a lock): two interleaved swaps of descriptor 2 could leave it pointing at a
+closed buffer.
 """
 
 from __future__ import annotations
@@ -13,9 +15,11 @@ import io
 import os
 import sys
 import tempfile
+import threading
 from collections.abc import Iterator
 from contextlib import contextmanager, redirect_stderr, redirect_stdout
 
+_ONE_AT_A_TIME = threading.Lock()
 PYMAVLINK_BYTE_SKIP = "bad header"
 PYMAVLINK_C_LINES = (PYMAVLINK_BYTE_SKIP, "unknown msg type", "Invalid length in FMT message")  # its indexer's
 
@@ -24,9 +28,9 @@ PYMAVLINK_C_LINES = (PYMAVLINK_BYTE_SKIP, "unknown msg type", "Invalid length in
 def library_output() -> Iterator[io.StringIO]:
     """Collects what is printed inside the block (Python's stdout and stderr, and descriptor 2)."""
     printed = io.StringIO()
-    sys.stderr.flush()
-    saved = os.dup(2)
-    with tempfile.TemporaryFile() as sink:
+    with _ONE_AT_A_TIME, tempfile.TemporaryFile() as sink:
+        sys.stderr.flush()
+        saved = os.dup(2)
         os.dup2(sink.fileno(), 2)
         try:
             with redirect_stdout(printed), redirect_stderr(printed):
