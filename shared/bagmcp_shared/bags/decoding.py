@@ -101,23 +101,38 @@ def _complete(store: Typestore, conn: Connection) -> str | None:
 
 
 class Decoder:
-    """Decodes messages of a bag's connections; knows which types it can decode and why not."""
+    """Decodes messages of a bag's connections; knows which types it can decode and why not.
+
+    Non-ROS types are set up when first used: a ULog has about a hundred formats and registering them all
+    costs about 0.5 s, while a question reads one or two topics.
+    """
 
     def __init__(self, connections: Iterable[Connection]) -> None:
         self._stores: dict[str, Typestore] = {}
         self._foreign: dict[str, ForeignCodec] = {}
+        self._pending: dict[str, Connection] = {}
         self._problems: dict[str, str] = {}
         for conn in connections:
-            if conn.msgtype not in self._stores and conn.msgtype not in self._problems:
+            if not conn.encoding.is_ros:
+                self._pending.setdefault(conn.msgtype, conn)
+            elif conn.msgtype not in self._stores and conn.msgtype not in self._problems:
                 self._add(conn)
+
+    def _ready(self, msgtype: str) -> None:
+        conn = self._pending.pop(msgtype, None)
+        if conn is not None:
+            self._add(conn)
 
     @property
     def problems(self) -> dict[str, str]:
         """Message types that cannot be decoded, with the reason for each."""
+        for msgtype in list(self._pending):
+            self._ready(msgtype)
         return dict(self._problems)
 
     def typestore(self, msgtype: str) -> Typestore:
         """The typestore that decodes ``msgtype`` (raises DecodeError when there is none)."""
+        self._ready(msgtype)
         store = self._stores.get(msgtype)
         if store is None:
             reason = self._problems.get(msgtype, "the type is not used in this bag")
@@ -126,6 +141,7 @@ class Decoder:
 
     def units(self, msgtype: str) -> dict[str, str]:
         """Units of field paths that the type's own definition states (DataFlash FMTU); empty for ROS types."""
+        self._ready(msgtype)
         codec = self._foreign.get(msgtype)
         return dict(codec.units) if codec is not None else {}
 
@@ -151,6 +167,7 @@ class Decoder:
 
     def _decode_foreign(self, raw: RawMessage) -> object:
         conn = raw.connection
+        self._ready(conn.msgtype)
         codec = self._foreign.get(conn.msgtype)
         if codec is None:
             self.typestore(conn.msgtype)  # raises with the reason
