@@ -1,0 +1,122 @@
+"""The views' rows in memory: each bag's file of a view is read once per process (one GET, in parallel when
+many are missing) and kept while it fits ``max_bytes`` (least recently used dropped first); a view over many
+bags is those tables joined end to end, remembered until the set of bags changes. 500 short bags' poses
+are about 60 MB; a warm query pays only DuckDB's scan of them.
+"""
+
+from __future__ import annotations
+
+import threading
+from collections import OrderedDict
+from collections.abc import Callable, Sequence
+from concurrent.futures import ThreadPoolExecutor
+from dataclasses import dataclass, field
+
+import pyarrow as pa
+
+from bagmcp_bag_store.errors import QueryStoppedError
+from bagmcp_bag_store.fleet.files import FleetFiles
+from bagmcp_bag_store.fleet.views import VIEWS
+
+LOADERS = 8  # concurrent reads of missing files (S3 GETs of a few KB: latency-bound)
+Progress = Callable[[float, str], None]
+
+
+@dataclass(frozen=True)
+class BagName:
+    id: str
+    name: str
+
+
+@dataclass
+class Joined:
+    """A view's rows over the chosen bags, and the bags whose files are not stored (yet)."""
+
+    table: pa.Table
+    missing: list[str] = field(default_factory=list)
+
+
+class FleetTables:
+    def __init__(self, files: FleetFiles, *, max_bytes: int) -> None:
+        self._files = files
+        self._max_bytes = max_bytes
+        self._tables: OrderedDict[tuple[str, str], pa.Table] = OrderedDict()
+        self._joined: dict[str, tuple[tuple[BagName, ...], Joined]] = {}
+        self._bytes = 0
+        self._lock = threading.Lock()
+
+    def warm(self, kind: str, bags: Sequence[BagName]) -> bool:
+        """Whether every bag's rows of ``kind`` are in memory (a query over them needs no reads)."""
+        with self._lock:
+            return all((kind, b.id) in self._tables for b in bags)
+
+    def view(self, kind: str, bags: Sequence[BagName], progress: Progress | None = None) -> Joined:
+        key = tuple(bags)
+        with self._lock:
+            remembered = self._joined.get(kind)
+            if remembered is not None and remembered[0] == key and not remembered[1].missing:
+                return remembered[1]
+        parts, missing = self._parts(kind, bags, progress)
+        joined = Joined(pa.concat_tables([VIEWS[kind].schema.empty_table(), *parts]), missing)
+        with self._lock:
+            self._joined[kind] = (key, joined)
+        return joined
+
+    def _parts(self, kind: str, bags: Sequence[BagName], progress: Progress | None) -> tuple[list[pa.Table], list[str]]:
+        with self._lock:
+            found = {b.id: self._touch((kind, b.id)) for b in bags}
+        absent = [b for b in bags if found[b.id] is None]
+        for done, (bag, table) in enumerate(self._load(kind, absent), start=1):
+            found[bag.id] = table
+            if progress is not None and done % 25 == 0:
+                progress(done / len(absent), f"read {done} of {len(absent)} bags' {kind}")
+        needed = sum(t.nbytes for t in found.values() if t is not None)
+        if needed > self._max_bytes:
+            raise QueryStoppedError(
+                f"the {kind} rows of these {len(bags)} bags take {needed / 2**20:.0f} MiB, more than the query cache "
+                f"holds ({self._max_bytes / 2**20:.0f} MiB, BAGMCP_QUERY_CACHE_BYTES); filter to fewer bags with "
+                "find_bags or a tag, or raise the limit"
+            )
+        parts = [_named(t, b.name) for b in bags if (t := found[b.id]) is not None]
+        return parts, [b.name for b in bags if found[b.id] is None]
+
+    def _load(self, kind: str, bags: list[BagName]) -> list[tuple[BagName, pa.Table | None]]:
+        if not bags:
+            return []
+        with ThreadPoolExecutor(max_workers=min(LOADERS, len(bags))) as pool:
+            loaded = list(zip(bags, pool.map(lambda b: self._files.read(kind, b.id), bags), strict=True))
+        with self._lock:
+            for bag, table in loaded:
+                if table is not None:
+                    self._keep((kind, bag.id), table)
+        return loaded
+
+    def _touch(self, key: tuple[str, str]) -> pa.Table | None:
+        table = self._tables.get(key)
+        if table is not None:
+            self._tables.move_to_end(key)
+        return table
+
+    def _keep(self, key: tuple[str, str], table: pa.Table) -> None:
+        if key in self._tables:
+            return
+        self._tables[key] = table
+        self._bytes += table.nbytes
+        while self._bytes > self._max_bytes and len(self._tables) > 1:
+            _, dropped = self._tables.popitem(last=False)
+            self._bytes -= dropped.nbytes
+
+    def forget(self, bag_id: str) -> None:
+        """Drop a deleted bag's rows."""
+        with self._lock:
+            for key in [k for k in self._tables if k[1] == bag_id]:
+                self._bytes -= self._tables.pop(key).nbytes
+            self._joined.clear()
+
+
+def _named(table: pa.Table, name: str) -> pa.Table:
+    """The bag's rows under its current name (a bag listed again after a lost catalog may be renamed)."""
+    if not table.num_rows or table.column("bag")[0].as_py() == name:
+        return table
+    index = table.schema.get_field_index("bag")
+    return table.set_column(index, "bag", pa.array([name] * table.num_rows, type=pa.string()))
