@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Any
 
 from mcp import Client
 
@@ -33,7 +34,11 @@ async def per_bag(client: Client, bag: str, *, point: tuple[float, float], withi
     trajectory = await long(client, "analyze_trajectory", bag=bag, topic=ODOM)
     logs = await long(client, "analyze_logs", bag=bag, min_level="ERROR", topic="/rosout")
     near = await long(
-        client, "search_messages", bag=bag, topic=ODOM, condition="near_position",
+        client,
+        "search_messages",
+        bag=bag,
+        topic=ODOM,
+        condition="near_position",
         value={"x": point[0], "y": point[1], "radius": 1000.0},
     )
     lidar = await long(client, "analyze_lidar_scan", bag=bag, topic="/scan", within=within_m)
@@ -52,7 +57,7 @@ async def query(client: Client, sql: str) -> JsonObject:
     return await long(client, "query_bags", sql=sql)
 
 
-def by_bag(answer: JsonObject) -> dict[str, list[object]]:
+def by_bag(answer: JsonObject) -> dict[str, list[Any]]:
     columns = answer["columns"]
     return {row[columns.index("bag")]: row for row in answer["rows"]}
 
@@ -63,22 +68,41 @@ async def check_fleet(client: Client, names: list[str], *, point: tuple[float, f
     within_m = 0.5
     truth = {name: await per_bag(client, name, point=point, within_m=within_m) for name in names}
     wanted = ", ".join(f"'{n}'" for n in names)
+    odom = f"topic = '{ODOM}' AND bag IN ({wanted})"
 
-    speeds = by_bag(await query(client, f"SELECT bag, max(speed) FROM poses WHERE topic = '{ODOM}' AND bag IN ({wanted}) GROUP BY bag"))
+    speeds = by_bag(await query(client, f"SELECT bag, max(speed) FROM poses WHERE {odom} GROUP BY bag"))
     for name, facts in truth.items():
         assert math.isclose(speeds[name][1], facts.max_speed_mps, rel_tol=0.03), (name, speeds[name], facts)
 
-    errors = by_bag(await query(client, f"SELECT bag, count(*), min(offset_s) FROM logs WHERE topic = '/rosout' AND level_rank >= 3 AND bag IN ({wanted}) GROUP BY bag"))
+    errors = by_bag(
+        await query(
+            client,
+            f"SELECT bag, count(*), min(offset_s) FROM logs WHERE topic = '/rosout' AND level_rank >= 3 "
+            f"AND bag IN ({wanted}) GROUP BY bag",
+        )
+    )
     for name, facts in truth.items():
         assert errors[name][1] == facts.errors, (name, errors[name], facts)
-        assert facts.first_error_s is not None and math.isclose(errors[name][2], facts.first_error_s, abs_tol=1e-3)
+        assert facts.first_error_s is not None
+        assert math.isclose(errors[name][2], facts.first_error_s, abs_tol=1e-3)
 
-    closest = by_bag(await query(client, f"SELECT bag, min(sqrt((x - {point[0]})^2 + (y - {point[1]})^2)) FROM poses WHERE topic = '{ODOM}' AND bag IN ({wanted}) GROUP BY bag"))
+    closest = by_bag(
+        await query(
+            client,
+            f"SELECT bag, min(sqrt((x - {point[0]})^2 + (y - {point[1]})^2)) FROM poses WHERE {odom} GROUP BY bag",
+        )
+    )
     for name, facts in truth.items():
         assert math.isclose(closest[name][1], facts.closest_m, abs_tol=1e-6), (name, closest[name], facts)
 
-    found = await long(client, "find_bags", log_level="ERROR", near={"x": point[0], "y": point[1], "radius_m": 0.5},
-                       scan_below_m=within_m, speed_above_mps=0.1)
+    found = await long(
+        client,
+        "find_bags",
+        log_level="ERROR",
+        near={"x": point[0], "y": point[1], "radius_m": 0.5},
+        scan_below_m=within_m,
+        speed_above_mps=0.1,
+    )
     matched = {m["bag"]: {e["condition"]: e for e in m["evidence"]} for m in found["matches"]}
     for name, facts in truth.items():
         evidence = matched[name]
@@ -92,8 +116,10 @@ async def check_fleet(client: Client, names: list[str], *, point: tuple[float, f
 async def check_refusals(client: Client) -> None:
     """Wrong tables and columns name the right ones; writes and second statements are refused."""
     wrong_table = await call_error(client, "query_bags", sql="SELECT * FROM odometry")
-    assert "poses(" in wrong_table and "logs(" in wrong_table
+    assert "poses(" in wrong_table
+    assert "logs(" in wrong_table
     wrong_column = await call_error(client, "query_bags", sql="SELECT velocity FROM poses")
-    assert "velocity" in wrong_column and "speed" in wrong_column
+    assert "velocity" in wrong_column
+    assert "speed" in wrong_column
     assert "only SELECT" in await call_error(client, "query_bags", sql="DELETE FROM poses")
     assert "exactly one" in await call_error(client, "query_bags", sql="SELECT 1; SELECT 2")

@@ -10,7 +10,6 @@ from mcp.server.mcpserver import MCPServer
 
 from bagmcp_bag_store.api import build_router
 from bagmcp_bag_store.filtering import filter_bag
-from bagmcp_bag_store.fleet.engine import QueryLimits
 from bagmcp_bag_store.fleet.routes import build_query_router
 from bagmcp_bag_store.fleet.service import Fleet, build_fleet
 from bagmcp_bag_store.ingest.ingest import Ingestor
@@ -18,7 +17,7 @@ from bagmcp_bag_store.ingest.shelf import Shelf
 from bagmcp_bag_store.ingest.upload import UploadPolicy
 from bagmcp_bag_store.job_kinds import FILTER, FIND, INGEST, QUERY, SEARCH
 from bagmcp_bag_store.query.search import search_messages
-from bagmcp_bag_store.settings import UploadSettings
+from bagmcp_bag_store.settings import QueryLimits, UploadSettings
 from bagmcp_bag_store.tools import build_server
 from bagmcp_kit.longwork import LongWork
 from bagmcp_kit.server import Guard

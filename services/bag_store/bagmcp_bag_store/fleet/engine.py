@@ -23,23 +23,11 @@ from bagmcp_bag_store.fleet.extract import bags_of
 from bagmcp_bag_store.fleet.sql_guard import CheckedQuery, check_query
 from bagmcp_bag_store.fleet.tables import BagName, FleetTables
 from bagmcp_bag_store.fleet.views import VIEWS, describe
+from bagmcp_bag_store.settings import QueryLimits
 from bagmcp_shared.catalog import BagRecord, Catalog
 
 Progress = Callable[[float, str], None]
 _ANSWER = "fleet_answer"
-
-
-@dataclass(frozen=True)
-class QueryLimits:
-    """``timeout_s``, ``memory_mb`` and ``threads`` bound each query; ``max_rows`` is what a tool answer
-    shows (``rest_max_rows`` a REST download); ``cache_bytes`` bounds the views' rows kept in memory."""
-
-    timeout_s: float = 10.0
-    memory_mb: int = 1024
-    threads: int = 2
-    max_rows: int = 200
-    rest_max_rows: int = 100_000
-    cache_bytes: int = 2 * 2**30
 
 
 @dataclass

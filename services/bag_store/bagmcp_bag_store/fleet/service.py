@@ -6,11 +6,12 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from bagmcp_bag_store.fleet.answers import QueryAnswer, shaped
-from bagmcp_bag_store.fleet.engine import FleetEngine, Progress, QueryLimits
+from bagmcp_bag_store.fleet.engine import FleetEngine, Progress
 from bagmcp_bag_store.fleet.files import FleetFiles
 from bagmcp_bag_store.fleet.find import FindAnswer, find_bags
 from bagmcp_bag_store.fleet.find_params import FindParams, QueryParams
 from bagmcp_bag_store.fleet.tables import BagName, FleetTables
+from bagmcp_bag_store.settings import QueryLimits
 from bagmcp_shared.catalog import Catalog
 from bagmcp_shared.storage import ObjectStore
 

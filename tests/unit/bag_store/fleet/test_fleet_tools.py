@@ -29,4 +29,5 @@ async def test_the_bags_view_lists_every_ready_bag_with_its_summary(served_drive
     assert [row[0] for row in answer["rows"]] == sorted(DRIVE_NAMES)
     assert {row[1] for row in answer["rows"]} == {"ros1", "ros2-sqlite3", "ros2-mcap"}
     assert all(abs(row[2] - 60.0) < 1e-6 for row in answer["rows"])
-    assert answer["total_rows"] == 3 and not answer["truncated"]
+    assert answer["total_rows"] == 3
+    assert not answer["truncated"]
