@@ -4,7 +4,6 @@ bags/<id>/<file>                  a bag's files (one file, or a ROS 2 directory'
 catalog/<id>.json                 the bag's catalog registration (lets the catalog be rebuilt)
 indexes/<id>/summary.json         what ingest learned: summary and message definitions
 indexes/<id>/columns/<file>       the columnar index
-fleet/<version>/<kind>/<id>.parquet  the bag's rows of one view of the columnar store (query_bags)
 artifacts/<id>.<ext>              plots and exports made for callers
 """
 
@@ -31,16 +30,6 @@ def ingest_summary(bag_id: str) -> str:
 
 def index_file(bag_id: str, name: str) -> str:
     return f"indexes/{bag_id}/columns/{name}"
-
-
-def fleet_prefix(version: str, kind: str) -> str:
-    """Every bag's file of one view: one folder per view, one file per bag (what an engine such as DuckDB,
-    Trino or Spark globs as ``fleet/<version>/<kind>/*.parquet``)."""
-    return f"fleet/{version}/{kind}/"
-
-
-def fleet_file(version: str, kind: str, bag_id: str) -> str:
-    return f"{fleet_prefix(version, kind)}{bag_id}.parquet"
 
 
 def artifact(artifact_id: str, extension: str) -> str:

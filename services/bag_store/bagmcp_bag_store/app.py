@@ -21,7 +21,7 @@ def create_app(settings: BagStoreSettings) -> FastAPI:
     service = settings.service
     resources = team_resources(service.team, queue=QUEUE)
     restore_lost_catalog(resources.catalog, resources.store, ingest_queue(resources))
-    queue_fleet_backfill(resources.catalog, resources.store, ingest_queue(resources))
+    queue_fleet_backfill(resources.catalog, ingest_queue(resources))
     bag_store = build_bag_store(resources, uploads=settings.uploads, queries=settings.queries, guard=Guard.of(service))
     return create_service_app(
         title="bagmcp bag-store",

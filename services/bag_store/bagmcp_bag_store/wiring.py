@@ -38,7 +38,9 @@ class BagStoreWork:
 def build_work(res: Resources, *, queries: QueryLimits | None = None) -> BagStoreWork:
     shelf = Shelf(res.catalog, res.store)
     ingestor = Ingestor(res.catalog, res.files, res.indexes, res.store)
-    fleet = build_fleet(res.catalog, res.store, limits=queries or QueryLimits(), budget_bytes=res.max_result_bytes)
+    fleet = build_fleet(
+        res.catalog, res.store, res.files, limits=queries or QueryLimits(), budget_bytes=res.max_result_bytes
+    )
     registry = JobRegistry()
     registry.add(
         SEARCH, lambda p, progress: search_messages(res.access, p, progress, budget_bytes=res.max_result_bytes)

@@ -3,8 +3,9 @@
 One in-memory database per process, opened with external access off (no files, URLs, ATTACH, COPY or
 extension loading), no extension auto-install, a memory limit and a thread count, then its configuration
 locked so SQL cannot change any of it. Each query gets its own cursor (its own registered views: the Arrow
-tables of tables.py, read in place), a timer that interrupts it at the time limit, and its answer kept in a
-temporary table so the total is known while only ``max_rows`` rows leave DuckDB. DuckDB releases the GIL
+tables of tables.py, read in place) and a timer that interrupts it at the time limit; its answer streams
+out in batches, the first ``max_rows`` rows kept and the rest only counted, so the total is known without
+holding every row. DuckDB releases the GIL
 while it runs, so a query at its limit leaves the server answering other calls.
 """
 
@@ -12,6 +13,7 @@ from __future__ import annotations
 
 import threading
 import time
+from collections import OrderedDict
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 
@@ -20,14 +22,15 @@ import pyarrow as pa
 
 from bagmcp_bag_store.errors import QueryError, QueryStoppedError
 from bagmcp_bag_store.fleet.extract import bags_of
-from bagmcp_bag_store.fleet.sql_guard import CheckedQuery, check_query
-from bagmcp_bag_store.fleet.tables import BagName, FleetTables
+from bagmcp_bag_store.fleet.sql_guard import CheckedQuery, Parsed, check_query, parse_query
+from bagmcp_bag_store.fleet.tables import FleetTables
 from bagmcp_bag_store.fleet.views import VIEWS, describe
 from bagmcp_bag_store.settings import QueryLimits
 from bagmcp_shared.catalog import BagRecord, Catalog
 
 Progress = Callable[[float, str], None]
-_ANSWER = "fleet_answer"
+BATCH_ROWS = 8192
+PARSED_KEPT = 256
 
 
 @dataclass
@@ -59,6 +62,7 @@ class FleetEngine:
         self.limits = limits
         self._db: duckdb.DuckDBPyConnection | None = None
         self._open = threading.Lock()
+        self._parsed: OrderedDict[str, Parsed] = OrderedDict()  # by SQL text: a warm query is not parsed again
 
     def _cursor(self) -> duckdb.DuckDBPyConnection:
         with self._open:
@@ -70,17 +74,25 @@ class FleetEngine:
         return [r for r in self._catalog.all() if r.status == "ready" and r.summary is not None]
 
     def check(self, sql: str, *, readable: Sequence[str]) -> CheckedQuery:
-        cursor = self._cursor()
-        try:
-            return check_query(cursor, sql, readable=readable)
-        finally:
-            cursor.close()
+        with self._open:
+            parsed = self._parsed.get(sql)
+        if parsed is None:
+            cursor = self._cursor()
+            try:
+                parsed = parse_query(cursor, sql)
+            finally:
+                cursor.close()
+            with self._open:
+                self._parsed[sql] = parsed
+                while len(self._parsed) > PARSED_KEPT:
+                    self._parsed.popitem(last=False)
+        return check_query(parsed, readable=readable)
 
     def warm(self, sql: str, *, readable: Sequence[str]) -> bool:
         """Whether the query's views are all in memory (it then runs inline, without a job)."""
         checked = self.check(sql, readable=readable)
-        names = [BagName(r.id, r.name) for r in self.ready_bags()]
-        return all(self.tables.warm(v, names) for v in checked.views if v != "bags")
+        bags = self.ready_bags()
+        return all(self.tables.warm(v, bags) for v in checked.views if v != "bags")
 
     def run(
         self,
@@ -93,9 +105,9 @@ class FleetEngine:
     ) -> Outcome:
         """``sql`` over the views in ``readable``; ``params`` fill its ``?`` placeholders (find_bags' values)."""
         began = time.perf_counter()
+        checked = self.check(sql, readable=readable)
         cursor = self._cursor()
         try:
-            checked = check_query(cursor, sql, readable=readable)
             records = self.ready_bags()
             missing = self._register(cursor, checked, records, progress)
             table, total = self._execute(cursor, checked, max_rows=max_rows, params=params)
@@ -110,13 +122,12 @@ class FleetEngine:
         records: list[BagRecord],
         progress: Progress | None,
     ) -> list[str]:
-        names = [BagName(r.id, r.name) for r in records]
         missing: set[str] = set()
         for view in sorted(checked.views):
             if view == "bags":
                 table = bags_of([(r, r.summary) for r in records if r.summary is not None])
             else:
-                joined = self.tables.view(view, names, progress)
+                joined = self.tables.view(view, records, progress)
                 table, missing = joined.table, missing | set(joined.missing)
             cursor.register(view, table)
         return sorted(missing)
@@ -127,9 +138,9 @@ class FleetEngine:
         timer = threading.Timer(self.limits.timeout_s, cursor.interrupt)
         timer.start()
         try:
-            cursor.execute(f"CREATE TEMP TABLE {_ANSWER} AS\n{checked.text}\n", list(params) or None)
-            counted = cursor.execute(f"SELECT count(*) FROM {_ANSWER}").fetchall()[0]
-            table = cursor.sql(f"SELECT * FROM {_ANSWER} LIMIT {int(max_rows)}").to_arrow_table()
+            return _first_rows(
+                cursor.sql(checked.text, params=list(params) or None).to_arrow_reader(BATCH_ROWS), max_rows
+            )
         except duckdb.InterruptException as err:
             raise QueryStoppedError(
                 f"the query ran past the time limit of {self.limits.timeout_s:g} s and was stopped; filter earlier "
@@ -144,7 +155,17 @@ class FleetEngine:
             raise QueryError(_explained(err, checked)) from err
         finally:
             timer.cancel()
-        return table, int(counted[0]) if counted else 0
+
+
+def _first_rows(reader: pa.RecordBatchReader, max_rows: int) -> tuple[pa.Table, int]:
+    """The first ``max_rows`` rows, and how many the query produced (the rest are counted, not kept)."""
+    kept: list[pa.RecordBatch] = []
+    total = 0
+    for batch in reader:
+        if total < max_rows:
+            kept.append(batch.slice(0, max_rows - total))
+        total += batch.num_rows
+    return pa.Table.from_batches(kept, schema=reader.schema), total
 
 
 def _explained(err: duckdb.Error, checked: CheckedQuery) -> str:

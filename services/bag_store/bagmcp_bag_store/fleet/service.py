@@ -10,8 +10,9 @@ from bagmcp_bag_store.fleet.engine import FleetEngine, Progress
 from bagmcp_bag_store.fleet.files import FleetFiles
 from bagmcp_bag_store.fleet.find import FindAnswer, find_bags
 from bagmcp_bag_store.fleet.find_params import FindParams, QueryParams
-from bagmcp_bag_store.fleet.tables import BagName, FleetTables
+from bagmcp_bag_store.fleet.tables import FleetTables
 from bagmcp_bag_store.settings import QueryLimits
+from bagmcp_shared.access import BagFiles
 from bagmcp_shared.catalog import Catalog
 from bagmcp_shared.storage import ObjectStore
 
@@ -34,10 +35,12 @@ class Fleet:
         return self.engine.warm(params.sql, readable=params.readable)
 
     def find_is_small(self, _params: FindParams) -> bool:
-        names = [BagName(r.id, r.name) for r in self.engine.ready_bags()]
-        return all(self.engine.tables.warm(view, names) for view in FIND_VIEWS)
+        bags = self.engine.ready_bags()
+        return all(self.engine.tables.warm(view, bags) for view in FIND_VIEWS)
 
 
-def build_fleet(catalog: Catalog, store: ObjectStore, *, limits: QueryLimits, budget_bytes: int) -> Fleet:
-    tables = FleetTables(FleetFiles(store), max_bytes=limits.cache_bytes)
+def build_fleet(
+    catalog: Catalog, store: ObjectStore, files: BagFiles, *, limits: QueryLimits, budget_bytes: int
+) -> Fleet:
+    tables = FleetTables(FleetFiles(store, files), max_bytes=limits.cache_bytes)
     return Fleet(FleetEngine(catalog, tables, limits), budget_bytes=budget_bytes)

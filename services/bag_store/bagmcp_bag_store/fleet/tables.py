@@ -15,17 +15,19 @@ from dataclasses import dataclass, field
 import pyarrow as pa
 
 from bagmcp_bag_store.errors import QueryStoppedError
-from bagmcp_bag_store.fleet.files import FleetFiles
+from bagmcp_bag_store.fleet.files import FleetFiles, has_views
 from bagmcp_bag_store.fleet.views import VIEWS
+from bagmcp_shared.catalog import BagRecord
 
 LOADERS = 8  # concurrent reads of missing files (S3 GETs of a few KB: latency-bound)
 Progress = Callable[[float, str], None]
 
 
-@dataclass(frozen=True)
-class BagName:
-    id: str
-    name: str
+Key = tuple[tuple[str, str, bool], ...]  # (id, name, views written) of each bag of a view
+
+
+def _key(bags: Sequence[BagRecord]) -> Key:
+    return tuple((b.id, b.name, has_views(b)) for b in bags)
 
 
 @dataclass
@@ -41,17 +43,17 @@ class FleetTables:
         self._files = files
         self._max_bytes = max_bytes
         self._tables: OrderedDict[tuple[str, str], pa.Table] = OrderedDict()
-        self._joined: dict[str, tuple[tuple[BagName, ...], Joined]] = {}
+        self._joined: dict[str, tuple[Key, Joined]] = {}
         self._bytes = 0
         self._lock = threading.Lock()
 
-    def warm(self, kind: str, bags: Sequence[BagName]) -> bool:
+    def warm(self, kind: str, bags: Sequence[BagRecord]) -> bool:
         """Whether every bag's rows of ``kind`` are in memory (a query over them needs no reads)."""
         with self._lock:
             return all((kind, b.id) in self._tables for b in bags)
 
-    def view(self, kind: str, bags: Sequence[BagName], progress: Progress | None = None) -> Joined:
-        key = tuple(bags)
+    def view(self, kind: str, bags: Sequence[BagRecord], progress: Progress | None = None) -> Joined:
+        key = _key(bags)
         with self._lock:
             remembered = self._joined.get(kind)
             if remembered is not None and remembered[0] == key and not remembered[1].missing:
@@ -62,7 +64,9 @@ class FleetTables:
             self._joined[kind] = (key, joined)
         return joined
 
-    def _parts(self, kind: str, bags: Sequence[BagName], progress: Progress | None) -> tuple[list[pa.Table], list[str]]:
+    def _parts(
+        self, kind: str, bags: Sequence[BagRecord], progress: Progress | None
+    ) -> tuple[list[pa.Table], list[str]]:
         with self._lock:
             found = {b.id: self._touch((kind, b.id)) for b in bags}
         absent = [b for b in bags if found[b.id] is None]
@@ -80,11 +84,11 @@ class FleetTables:
         parts = [_named(t, b.name) for b in bags if (t := found[b.id]) is not None]
         return parts, [b.name for b in bags if found[b.id] is None]
 
-    def _load(self, kind: str, bags: list[BagName]) -> list[tuple[BagName, pa.Table | None]]:
+    def _load(self, kind: str, bags: list[BagRecord]) -> list[tuple[BagRecord, pa.Table | None]]:
         if not bags:
             return []
         with ThreadPoolExecutor(max_workers=min(LOADERS, len(bags))) as pool:
-            loaded = list(zip(bags, pool.map(lambda b: self._files.read(kind, b.id), bags), strict=True))
+            loaded = list(zip(bags, pool.map(lambda b: self._files.read(kind, b), bags), strict=True))
         with self._lock:
             for bag, table in loaded:
                 if table is not None:

@@ -10,12 +10,12 @@ from collections.abc import Callable
 from pathlib import Path
 
 from bagmcp_bag_store.fleet.extract import IngestedBag
-from bagmcp_bag_store.fleet.files import FleetFiles
+from bagmcp_bag_store.fleet.feeding import ViewFeeder
 from bagmcp_shared import keys
 from bagmcp_shared.access import BagFiles, IndexPublisher
 from bagmcp_shared.bags import BagReader, BagSummary, open_bag
 from bagmcp_shared.catalog import BagRecord, Catalog, CatalogSummary
-from bagmcp_shared.errors import BagError, BagmcpError, BagNotFoundError, StorageError
+from bagmcp_shared.errors import BagError, BagNotFoundError
 from bagmcp_shared.index import ColumnIndex, build_index
 from bagmcp_shared.storage import ObjectStore
 
@@ -47,15 +47,15 @@ def _definitions(bag: BagReader) -> dict[str, dict[str, str]]:
 
 class Ingestor:
     """Summarizes bags into the catalog and builds their columnar index (``store`` keeps a copy of
-    what ingest learned next to stored bags, so the catalog can be rebuilt from storage), and feeds the
-    columnar store every bag's rows (``fleet``)."""
+    what ingest learned next to stored bags, so the catalog can be rebuilt from storage); the index carries
+    each bag's rows of the views queries across bags read (fleet/)."""
 
     def __init__(self, catalog: Catalog, files: BagFiles, indexes: IndexPublisher, store: ObjectStore) -> None:
         self._catalog = catalog
         self._files = files
         self._indexes = indexes
         self._store = store
-        self._fleet = FleetFiles(store)
+        self._views = ViewFeeder(catalog, files, indexes)
 
     def mark_failed(self, bag_id: str, reason: str) -> None:
         """Record why a bag cannot be used (no-op if it was deleted meanwhile)."""
@@ -66,16 +66,15 @@ class Ingestor:
     def ingest(self, bag_id: str) -> str:
         """Summarize the bag, build its columnar index, and mark it ready (or failed, with the reason).
 
-        Idempotent: a redelivered task on a ready bag only writes its columnar store's files when they are
-        missing (a bag ingested before that store existed). Storage errors propagate so the caller can
-        retry; a bag deleted while ingesting stays deleted.
+        Idempotent: a redelivered task on a ready bag only adds the views' files to its index when they are
+        missing (a bag ingested before they existed). Storage errors propagate so the caller can retry; a
+        bag deleted while ingesting stays deleted.
         """
         record = self._catalog.get(bag_id)
         if record is None:
             raise BagNotFoundError(f"bag {bag_id} is not in the catalog (deleted while queued?)")
         if record.status == "ready":
-            if record.summary is not None and not self._fleet.complete(bag_id):
-                self._feed(record, record.summary, ColumnIndex.load(self._files.index_dir(record)))
+            self._views.backfill(record)
             return record.status
         path = self._files.path_for(record)
         try:
@@ -103,27 +102,18 @@ class Ingestor:
         return progress_recorder(self._catalog, record.id, start=record.progress or 0.0, end=1.0)
 
     def _index(self, record: BagRecord, bag: BagReader, found: BagSummary) -> tuple[list[str], dict[str, float]]:
-        """The bag's columnar index (reused when this process already has a usable one, else built), and
-        the header-stamp rate of each indexed topic that has sane header stamps; the columnar store is fed
-        from it (unless it has this bag already)."""
-        if (existing := ColumnIndex.load(self._files.index_dir(record))) is not None:
-            if not self._fleet.complete(record.id):
-                self._feed(record, CatalogSummary.of(found, header_rates=existing.header_rates()), existing)
-            return record.index_files, existing.header_rates()
+        """The bag's columnar index with the views' files (reused when this process already has a usable
+        one, else built), and the header-stamp rate of each indexed topic that has sane header stamps."""
+        directory = self._files.index_dir(record)
+        if directory is not None and (existing := ColumnIndex.load(directory)) is not None:
+            rates = existing.header_rates()
+            summary = CatalogSummary.of(found, header_rates=rates)
+            return self._views.reused(record, summary, existing, directory), rates
         with tempfile.TemporaryDirectory(prefix="bagmcp-index-") as tmp:
             build_index(bag, Path(tmp) / "columns", progress=self._progress(record))
             built = ColumnIndex.load(Path(tmp) / "columns")
             assert built is not None
             rates = built.header_rates()
-            self._feed(record, CatalogSummary.of(found, header_rates=rates), built)
+            summary = CatalogSummary.of(found, header_rates=rates)
+            self._views.into(Path(tmp) / "columns", IngestedBag(record, summary, built))
             return self._indexes.publish_index(record, Path(tmp) / "columns"), rates
-
-    def _feed(self, record: BagRecord, summary: CatalogSummary, index: ColumnIndex | None) -> None:
-        """Write the bag's rows of every view of the columnar store. Storage errors propagate (the task is
-        retried); any other failure is logged and leaves the bag out until the next start's backfill."""
-        try:
-            self._fleet.write(IngestedBag(record, summary, index))
-        except StorageError:
-            raise
-        except (BagmcpError, ValueError, TypeError, OSError) as err:
-            log.exception("the columnar store's files of %s could not be written: %s", record.id, err)

@@ -10,7 +10,6 @@ import time
 from pathlib import Path
 
 from bagmcp_bag_store.errors import ReadOnlyError
-from bagmcp_bag_store.fleet.files import FleetFiles
 from bagmcp_shared import keys
 from bagmcp_shared.catalog import BagRecord, Catalog
 from bagmcp_shared.storage import ObjectStore
@@ -20,7 +19,6 @@ class Shelf:
     def __init__(self, catalog: Catalog, store: ObjectStore) -> None:
         self._catalog = catalog
         self._store = store
-        self._fleet = FleetFiles(store)
 
     def register(self, root: Path, files: list[str], sha: str, *, name: str, tags: list[str]) -> tuple[BagRecord, bool]:
         """Store a validated bag's files and list it; returns (record, created). Same content = same bag.
@@ -65,7 +63,7 @@ class Shelf:
         return again
 
     def remove(self, record: BagRecord) -> None:
-        """Remove a bag's catalog entry, objects, index and columnar store's files (catalog first, so it
+        """Remove a bag's catalog entry, objects and index with its views' files (catalog first, so it
         vanishes at once)."""
         if not record.in_store:
             raise ReadOnlyError(f"bag {record.name} is part of the served folder; remove it there, not through bagmcp")
@@ -76,7 +74,6 @@ class Shelf:
         self._store.delete(keys.ingest_summary(record.id))
         for name in record.index_files:
             self._store.delete(keys.index_file(record.id, name))
-        self._fleet.remove(record.id)
 
     def _remove_unlisted(self, bag_id: str, files: list[str]) -> None:
         """After a failed registration, remove its objects unless another registration of the same
