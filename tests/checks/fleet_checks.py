@@ -99,9 +99,9 @@ async def check_fleet(client: Client, names: list[str], *, point: tuple[float, f
         client,
         "find_bags",
         log_level="ERROR",
-        near={"x": point[0], "y": point[1], "radius_m": 0.5},
-        scan_below_m=within_m,
-        speed_above_mps=0.1,
+        near=[point[0], point[1], 0.5],
+        scan_below=within_m,
+        speed_above=0.1,
     )
     matched = {m["bag"]: {e["condition"]: e for e in m["evidence"]} for m in found["matches"]}
     for name, facts in truth.items():

@@ -103,45 +103,40 @@ def _speed(r: Row) -> str:
 def _probes(p: FindParams) -> list[Probe]:
     """One probe per condition given, in the order of the tool's arguments."""
     probes: list[Probe] = []
-    if p.has_topic:
-        probes.append(
-            Probe("has_topic", f"{_PER_TOPIC} WHERE {_TOPIC_IS} GROUP BY bag", (p.has_topic,), _topics("has_topic"))
-        )
-    if p.has_type:
+    if p.topic:
+        probes.append(Probe("topic", f"{_PER_TOPIC} WHERE {_TOPIC_IS} GROUP BY bag", (p.topic,), _topics("topic")))
+    if p.type:
         sql = f"{_PER_TOPIC} WHERE type = $1 OR type LIKE '%/' || $1 GROUP BY bag"
-        probes.append(Probe("has_type", sql, (_message_type(p.has_type),), _topics("has_type")))
-    if p.recorded_after is not None or p.recorded_before is not None:
-        low = _epoch_s(p.recorded_after, "recorded_after") if p.recorded_after is not None else 0.0
-        high = _epoch_s(p.recorded_before, "recorded_before") if p.recorded_before is not None else 1e11
+        probes.append(Probe("type", sql, (_message_type(p.type),), _topics("type")))
+    if p.between is not None:
+        low, high = (_epoch_s(value, "between") for value in p.between)
         sql = "SELECT bag, start, duration_s FROM bags WHERE start >= $1 AND start <= $2"
-        probes.append(Probe("recorded_between", sql, (low, high), _recorded))
+        probes.append(Probe("recorded", sql, (low, high), _recorded))
     if p.log_level or p.log_node or p.log_text:
         probes.append(_log_probe(p))
-    if p.speed_above_mps is not None:
-        probes.append(Probe("speed_above", _SPEED, (p.speed_above_mps,), _measured("speed_above", _speed)))
+    if p.speed_above is not None:
+        probes.append(Probe("speed_above", _SPEED, (p.speed_above,), _measured("speed_above", _speed)))
     if p.near is not None:
-        probes.append(_near_probe(p.near.x, p.near.y, p.near.radius_m))
-    if p.scan_below_m is not None:
-        below = p.scan_below_m
+        probes.append(_near_probe(*p.near))
+    if p.scan_below is not None:
+        below = p.scan_below
         detail = _measured(
             "scan_below",
             lambda r: f"{r['topic']} first below {below} m{_at(r)}; {r['n']} scans below, closest {r['v']:.3f} m",
         )
         probes.append(Probe("scan_below", _SCAN, (below,), detail))
-    if p.gap_longer_than_s is not None:
-        detail = _measured("gap_longer_than", lambda r: f"{r['topic']} silent for {r['v']:.3f} s{_at(r)}")
-        probes.append(Probe("gap_longer_than", _GAP, (p.gap_longer_than_s, p.gap_topic), detail))
+    if p.gap_above is not None:
+        detail = _measured("gap_above", lambda r: f"{r['topic']} silent for {r['v']:.3f} s{_at(r)}")
+        probes.append(Probe("gap_above", _GAP, (p.gap_above, p.topic), detail))
     if not probes:
-        raise ArgumentError(
-            "give at least one condition (e.g. log_level='ERROR', speed_above_mps=1, has_topic='/scan')"
-        )
+        raise ArgumentError("give at least one condition (e.g. log_level='ERROR', speed_above=1, topic='/scan')")
     return probes
 
 
 def _recorded(row: Row) -> Evidence:
     start = _f(row, "start") or 0.0
     detail = f"recorded from {iso_from_ns(round(start * 1e9))} for {_f(row, 'duration_s') or 0.0:.1f} s"
-    return Evidence(condition="recorded_between", detail=detail, value=_f(row, "duration_s"))
+    return Evidence(condition="recorded", detail=detail, value=_f(row, "duration_s"))
 
 
 def _log_probe(p: FindParams) -> Probe:

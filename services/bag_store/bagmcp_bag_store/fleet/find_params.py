@@ -5,15 +5,9 @@ from __future__ import annotations
 
 from typing import Literal
 
-from pydantic import BaseModel, Field
+from pydantic import BaseModel, Field, field_validator
 
 LogLevel = Literal["DEBUG", "INFO", "WARN", "ERROR", "FATAL"]
-
-
-class Near(BaseModel):
-    x: float = Field(description="m, in the pose topic's frame")
-    y: float = Field(description="m")
-    radius_m: float = Field(gt=0, le=1e6)
 
 
 class QueryParams(BaseModel):
@@ -23,17 +17,32 @@ class QueryParams(BaseModel):
 
 
 class FindParams(BaseModel):
-    has_topic: str | None = None
-    has_type: str | None = None
-    recorded_after: float | str | None = None
-    recorded_before: float | str | None = None
+    """find_bags' conditions (names kept short: a model reads them on every turn). ``topic`` is a topic the
+    bag must have, and the topic whose gaps ``gap_above`` measures when both are given."""
+
+    topic: str | None = None
+    type: str | None = None
+    between: list[float | str] | None = None
     log_level: LogLevel | None = None
     log_node: str | None = None
     log_text: str | None = None
-    speed_above_mps: float | None = Field(default=None, ge=0)
-    near: Near | None = None
-    scan_below_m: float | None = Field(default=None, gt=0)
-    gap_longer_than_s: float | None = Field(default=None, gt=0)
-    gap_topic: str | None = None
+    speed_above: float | None = Field(default=None, ge=0)
+    near: list[float] | None = None
+    scan_below: float | None = Field(default=None, gt=0)
+    gap_above: float | None = Field(default=None, gt=0)
     limit: int = Field(default=50, ge=1, le=500)
     readable: list[str] = Field(default_factory=list)
+
+    @field_validator("between")
+    @classmethod
+    def _from_and_to(cls, between: list[float | str] | None) -> list[float | str] | None:
+        if between is not None and len(between) != 2:
+            raise ValueError("between must be [from, to]: epoch seconds or ISO-8601, e.g. ['2026-11-01', '2026-11-08']")
+        return between
+
+    @field_validator("near")
+    @classmethod
+    def _point_and_radius(cls, near: list[float] | None) -> list[float] | None:
+        if near is not None and (len(near) != 3 or near[2] <= 0):
+            raise ValueError("near must be [x, y, radius] in metres with a radius above 0, e.g. [3, -1, 0.5]")
+        return near

@@ -11,7 +11,7 @@ from pydantic import Field
 
 from bagmcp_bag_store.fleet.answers import QueryAnswer, text_table
 from bagmcp_bag_store.fleet.find import FindAnswer
-from bagmcp_bag_store.fleet.find_params import FindParams, LogLevel, Near, QueryParams
+from bagmcp_bag_store.fleet.find_params import FindParams, LogLevel, QueryParams
 from bagmcp_bag_store.fleet.service import Fleet
 from bagmcp_bag_store.fleet.views import VIEWS, views_for
 from bagmcp_bag_store.job_kinds import FIND, QUERY
@@ -23,12 +23,12 @@ from bagmcp_kit.longwork import LongWork
 from bagmcp_kit.toolsets import tool
 
 VIEWS_URI = "bagmcp://fleet/views"
-_SERIES = ("bag", "bag_id", "topic", "t", "offset_s")
+_SERIES = ("bag", "bag_id", "topic", "t", "offset_s", "first_t", "last_t", "file", "function", "line")
 
 
 def _compact(name: str) -> str:
-    columns = [c for c in VIEWS[name].names if c not in _SERIES]
-    return f"{name}({', '.join(columns)})"
+    columns = [c for c in VIEWS[name].names if c not in _SERIES or (name == "topics" and c == "topic")]
+    return f"{name}({','.join(columns)})"
 
 
 def _find_summary(answer: FindAnswer) -> str:
@@ -43,7 +43,7 @@ class FleetTools:
 
     @tool(READ_ONLY)
     async def query_bags(
-        self, ctx: Context, sql: Annotated[str, Field(description="one DuckDB SELECT over the views")]
+        self, ctx: Context, sql: Annotated[str, Field(description="one SELECT")]
     ) -> Annotated[CallToolResult, LongAnswer[QueryAnswer]]:
         """(set below from the views)"""
         readable = views_for(callable_tools(ctx))
@@ -55,50 +55,42 @@ class FleetTools:
     async def find_bags(
         self,
         ctx: Context,
-        has_topic: Annotated[str | None, Field(description="e.g. /scan")] = None,
-        has_type: Annotated[str | None, Field(description="e.g. sensor_msgs/LaserScan")] = None,
-        recorded_after: Annotated[float | str | None, Field(description="epoch s or ISO")] = None,
-        recorded_before: Annotated[float | str | None, Field(description="epoch s or ISO")] = None,
-        log_level: Annotated[LogLevel | None, Field(description="a log at or above it")] = None,
-        log_node: Annotated[str | None, Field(description="log from a node (substring)")] = None,
-        log_text: Annotated[str | None, Field(description="log text containing this")] = None,
-        speed_above_mps: Annotated[float | None, Field(ge=0, description="a pose faster than this")] = None,
-        near: Annotated[Near | None, Field(description="came within radius_m of (x, y)")] = None,
-        scan_below_m: Annotated[float | None, Field(gt=0, description="a scan's closest range below")] = None,
-        gap_longer_than_s: Annotated[float | None, Field(gt=0, description="a topic silent longer")] = None,
-        gap_topic: Annotated[str | None, Field(description="only this topic's gaps")] = None,
-        limit: Annotated[int, Field(ge=1, le=500, description="bags to show")] = 50,
+        topic: Annotated[str | None, Field(description="has it")] = None,
+        type: Annotated[str | None, Field(description="has one")] = None,
+        between: Annotated[list[float | str] | None, Field(description="recorded: [from, to] epoch s/ISO")] = None,
+        log_level: Annotated[LogLevel | None, Field(description="at or above")] = None,
+        log_node: Annotated[str | None, Field(description="part")] = None,
+        log_text: Annotated[str | None, Field(description="part")] = None,
+        speed_above: Annotated[float | None, Field(description="m/s")] = None,
+        near: Annotated[list[float] | None, Field(description="[x, y, radius] m")] = None,
+        scan_below: Annotated[float | None, Field(description="m")] = None,
+        gap_above: Annotated[float | None, Field(description="s")] = None,
     ) -> Annotated[CallToolResult, LongAnswer[FindAnswer]]:
-        """Bags meeting ALL the conditions given, each with evidence (when, how much), across every bag.
-        Example: log_level="ERROR", log_node="planner", near={"x": 3, "y": -1, "radius_m": 0.5}."""
+        """Bags meeting ALL conditions given, with evidence (when, how much); topic scopes gap_above.
+        Example: log_level="ERROR", near=[3, -1, 0.5]"""
         readable = views_for(callable_tools(ctx))
         with tool_errors():
             params = params_of(
                 FindParams,
-                has_topic=has_topic,
-                has_type=has_type,
-                recorded_after=recorded_after,
-                recorded_before=recorded_before,
+                topic=topic,
+                type=type,
+                between=between,
                 log_level=log_level,
                 log_node=log_node,
                 log_text=log_text,
-                speed_above_mps=speed_above_mps,
+                speed_above=speed_above,
                 near=near,
-                scan_below_m=scan_below_m,
-                gap_longer_than_s=gap_longer_than_s,
-                gap_topic=gap_topic,
-                limit=limit,
+                scan_below=scan_below,
+                gap_above=gap_above,
                 readable=readable,
             )
         return await self._work.run(ctx, FIND, params, _find_summary, small=self._fleet.find_is_small)
 
 
 FleetTools.query_bags.__doc__ = (
-    "Read-only SQL (DuckDB, one SELECT or WITH...SELECT) across every bag. Views: "
-    + "; ".join(_compact(n) for n in VIEWS)
-    + ". Time views also have bag, topic, t (epoch s), offset_s (s from bag start); topics/tf_edges have bag. "
-    f"Limits: time, memory, rows (total and truncated given). Columns and units: resource {VIEWS_URI}. "
-    "Example: SELECT bag, max(speed) FROM poses GROUP BY bag ORDER BY 2 DESC"
+    "Read-only DuckDB SQL (one SELECT) over all bags. Views (all have bag; series: topic, t epoch s, "
+    "offset_s): " + " ".join(_compact(n) for n in VIEWS) + f". Units: {VIEWS_URI}. "
+    "Example: SELECT bag, max(speed) FROM poses GROUP BY bag"
 )
 
 

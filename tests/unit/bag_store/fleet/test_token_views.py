@@ -40,7 +40,7 @@ async def test_a_token_limited_to_trajectories_reads_poses_but_not_logs_or_the_b
         assert "poses" in refused  # it says what the token may read
         assert "may not read the bags view" in await call_error(client, "query_bags", sql="SELECT * FROM bags")
         assert "logs" in await call_error(client, "find_bags", log_level="ERROR")
-        found = await call(client, "find_bags", speed_above_mps=0.4)
+        found = await call(client, "find_bags", speed_above=0.4)
         assert found["result"]["total"] == len(DRIVE_NAMES)
 
 
