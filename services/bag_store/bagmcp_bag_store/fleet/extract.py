@@ -205,12 +205,9 @@ def logs(bag: IngestedBag) -> pa.Table:
 
 def tf_edges(bag: IngestedBag) -> pa.Table:
     index = bag.index
-    parts: list[Arrays] = []
-    for topic, _ in bag.topics_of(TF_TYPES):
-        rows = index.transforms(topic) if index is not None else None
-        if rows is not None and len(rows):
-            parts.append(tf_edge_rows(rows))
-    return _table("tf_edges", bag, parts)
+    found = [index.transforms(topic) if index is not None else None for topic, _ in bag.topics_of(TF_TYPES)]
+    rows = [r for r in found if r is not None and len(r)]
+    return _table("tf_edges", bag, [tf_edge_rows(rows)] if rows else [])
 
 
 def topics(bag: IngestedBag) -> pa.Table:
