@@ -6,6 +6,7 @@ from __future__ import annotations
 import pytest
 from mcp import Client
 
+from bagmcp_bag_store.fleet.views import VIEWS
 from tests.checks.fleet_checks import check_fleet, check_refusals, query
 from tests.fixtures.inprocess import InProcess
 from tests.unit.conftest import DRIVE_NAMES
@@ -31,3 +32,15 @@ async def test_the_bags_view_lists_every_ready_bag_with_its_summary(served_drive
     assert all(abs(row[2] - 60.0) < 1e-6 for row in answer["rows"])
     assert answer["total_rows"] == 3
     assert not answer["truncated"]
+
+
+async def test_the_views_resource_gives_every_view_with_its_columns_and_types(served_drive: InProcess) -> None:
+    async with Client(served_drive.gateway(), cache=None) as client:
+        listed = {str(r.uri) for r in (await client.list_resources()).resources}
+        assert "bagmcp://fleet/views" in listed
+        read = await client.read_resource("bagmcp://fleet/views")
+    text = "\n".join(getattr(c, "text", "") for c in read.contents)
+    for view in VIEWS.values():
+        assert f"{view.name}: {view.doc}" in text
+        for column in view.columns:
+            assert f"  {column.name} {column.type}" in text
