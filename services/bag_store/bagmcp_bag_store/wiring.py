@@ -83,6 +83,6 @@ def build_bag_store(
         uploads=res.uploads,
     )
     routers = APIRouter()
-    routers.include_router(build_router(res.access, policy))
+    routers.include_router(build_router(res.access, policy, forget=work.fleet.engine.forget))
     routers.include_router(build_query_router(work.fleet))
     return BagStore(work, server, routers)

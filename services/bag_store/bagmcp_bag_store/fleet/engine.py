@@ -14,7 +14,7 @@ from __future__ import annotations
 import threading
 import time
 from collections import OrderedDict
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, field
 
 import duckdb
@@ -22,6 +22,7 @@ import pyarrow as pa
 
 from bagmcp_bag_store.errors import QueryError, QueryStoppedError
 from bagmcp_bag_store.fleet.extract import bags_of
+from bagmcp_bag_store.fleet.listing import ReadyBags
 from bagmcp_bag_store.fleet.sql_guard import CheckedQuery, Parsed, check_query, parse_query
 from bagmcp_bag_store.fleet.tables import FleetTables
 from bagmcp_bag_store.fleet.views import VIEWS, describe
@@ -57,7 +58,7 @@ def _connect(limits: QueryLimits) -> duckdb.DuckDBPyConnection:
 
 class FleetEngine:
     def __init__(self, catalog: Catalog, tables: FleetTables, limits: QueryLimits) -> None:
-        self._catalog = catalog
+        self.ready_bags = ReadyBags(catalog)
         self.tables = tables
         self.limits = limits
         self._db: duckdb.DuckDBPyConnection | None = None
@@ -70,8 +71,10 @@ class FleetEngine:
                 self._db = _connect(self.limits)
             return self._db.cursor()
 
-    def ready_bags(self) -> list[BagRecord]:
-        return [r for r in self._catalog.all() if r.status == "ready" and r.summary is not None]
+    def forget(self, bag_id: str) -> None:
+        """Drop a bag deleted through this process from the listing and the rows in memory."""
+        self.ready_bags.forget()
+        self.tables.forget(bag_id)
 
     def check(self, sql: str, *, readable: Sequence[str]) -> CheckedQuery:
         with self._open:
@@ -89,10 +92,17 @@ class FleetEngine:
         return check_query(parsed, readable=readable)
 
     def warm(self, sql: str, *, readable: Sequence[str]) -> bool:
-        """Whether the query's views are all in memory (it then runs inline, without a job)."""
+        """Whether the query's views are all in memory (it then runs inline, without a job); the cold ones
+        start being read here in the background, for the next query."""
         checked = self.check(sql, readable=readable)
+        return self.warm_views(checked.views)
+
+    def warm_views(self, views: Iterable[str]) -> bool:
         bags = self.ready_bags()
-        return all(self.tables.warm(v, bags) for v in checked.views if v != "bags")
+        cold = [v for v in views if v != "bags" and not self.tables.warm(v, bags)]
+        for view in cold:
+            self.tables.prefetch(view, bags)
+        return not cold
 
     def run(
         self,

@@ -3,7 +3,7 @@ summary): nothing here decodes the bag again, so feeding the store costs a few m
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterator, Sequence
+from collections.abc import Callable, Collection, Iterator, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -49,10 +49,10 @@ class IngestedBag:
     def start_ns(self) -> int:
         return self.summary.start_ns or 0
 
-    def topics_of(self, types: object) -> Iterator[tuple[str, str]]:
+    def topics_of(self, types: Collection[str]) -> Iterator[tuple[str, str]]:
         """(topic, type) of the bag's topics whose type is among ``types``."""
         for topic in self.summary.topics:
-            if topic.type in types:  # type: ignore[operator]
+            if topic.type in types:
                 yield topic.name, topic.type
 
 

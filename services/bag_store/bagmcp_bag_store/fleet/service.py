@@ -35,8 +35,7 @@ class Fleet:
         return self.engine.warm(params.sql, readable=params.readable)
 
     def find_is_small(self, _params: FindParams) -> bool:
-        bags = self.engine.ready_bags()
-        return all(self.engine.tables.warm(view, bags) for view in FIND_VIEWS)
+        return self.engine.warm_views(FIND_VIEWS)
 
 
 def build_fleet(

@@ -6,6 +6,7 @@ are about 60 MB; a warm query pays only DuckDB's scan of them.
 
 from __future__ import annotations
 
+import logging
 import threading
 from collections import OrderedDict
 from collections.abc import Callable, Sequence
@@ -18,6 +19,9 @@ from bagmcp_bag_store.errors import QueryStoppedError
 from bagmcp_bag_store.fleet.files import FleetFiles, has_views
 from bagmcp_bag_store.fleet.views import VIEWS
 from bagmcp_shared.catalog import BagRecord
+from bagmcp_shared.errors import BagmcpError
+
+log = logging.getLogger(__name__)
 
 LOADERS = 8  # concurrent reads of missing files (S3 GETs of a few KB: latency-bound)
 Progress = Callable[[float, str], None]
@@ -46,6 +50,8 @@ class FleetTables:
         self._joined: dict[str, tuple[Key, Joined]] = {}
         self._bytes = 0
         self._lock = threading.Lock()
+        self._reading = {kind: threading.Lock() for kind in VIEWS}  # one reader of a view's files at a time
+        self._prefetching: set[str] = set()
 
     def warm(self, kind: str, bags: Sequence[BagRecord]) -> bool:
         """Whether every bag's rows of ``kind`` are in memory (a query over them needs no reads)."""
@@ -64,16 +70,35 @@ class FleetTables:
             self._joined[kind] = (key, joined)
         return joined
 
+    def prefetch(self, kind: str, bags: Sequence[BagRecord]) -> None:
+        """Read the bags' files of ``kind`` in the background (one at a time per view): a query over cold views
+        runs as a job, maybe in another process, while this one warms up for the next."""
+        with self._lock:
+            if kind in self._prefetching:
+                return
+            self._prefetching.add(kind)
+        threading.Thread(target=self._prefetched, args=(kind, list(bags)), name=f"prefetch-{kind}", daemon=True).start()
+
+    def _prefetched(self, kind: str, bags: list[BagRecord]) -> None:
+        try:
+            self._parts(kind, bags, None)
+        except BagmcpError as err:  # too large for the cache, or storage down: the query itself says so
+            log.info("prefetching %s stopped: %s", kind, err)
+        finally:
+            with self._lock:
+                self._prefetching.discard(kind)
+
     def _parts(
         self, kind: str, bags: Sequence[BagRecord], progress: Progress | None
     ) -> tuple[list[pa.Table], list[str]]:
-        with self._lock:
-            found = {b.id: self._touch((kind, b.id)) for b in bags}
-        absent = [b for b in bags if found[b.id] is None]
-        for done, (bag, table) in enumerate(self._load(kind, absent), start=1):
-            found[bag.id] = table
-            if progress is not None and done % 25 == 0:
-                progress(done / len(absent), f"read {done} of {len(absent)} bags' {kind}")
+        with self._reading[kind]:  # a second reader finds what the first read
+            with self._lock:
+                found = {b.id: self._touch((kind, b.id)) for b in bags}
+            absent = [b for b in bags if found[b.id] is None]
+            for done, (bag, table) in enumerate(self._load(kind, absent), start=1):
+                found[bag.id] = table
+                if progress is not None and done % 25 == 0:
+                    progress(done / len(absent), f"read {done} of {len(absent)} bags' {kind}")
         needed = sum(t.nbytes for t in found.values() if t is not None)
         if needed > self._max_bytes:
             raise QueryStoppedError(
