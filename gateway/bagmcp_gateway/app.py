@@ -9,6 +9,7 @@ from collections.abc import AsyncIterator, Callable, Sequence
 import anyio
 from fastapi import APIRouter, Depends, FastAPI
 from fastapi.responses import JSONResponse, Response
+from mcp.server.auth.provider import AccessToken
 from mcp.server.auth.settings import AuthSettings
 from mcp.server.subscriptions import InMemorySubscriptionBus
 from pydantic import AnyHttpUrl
@@ -123,7 +124,11 @@ def create_app(
     routers = [*rest]
     if store is not None and verifier is not None:
         routers.insert(0, build_admin_router(store, profiles=list(settings.policy.profiles), forget=verifier.forget))
-    guard = rest_auth(verifier)
+
+    async def tools_for(caller: AccessToken | None) -> list[str] | None:
+        return gateway.policy.callable_names(await gateway.tools(), caller)
+
+    guard = rest_auth(verifier, tools_for)
     app = new_app(
         title="bagmcp gateway",
         lifespan=lifespan,

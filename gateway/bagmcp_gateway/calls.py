@@ -27,12 +27,16 @@ log = logging.getLogger(__name__)
 
 
 async def _forward(
-    gateway: Gateway, ctx: ServerRequestContext[Any], route: ToolRoute, arguments: dict[str, Any], caller: str
+    gateway: Gateway,
+    ctx: ServerRequestContext[Any],
+    route: ToolRoute,
+    arguments: dict[str, Any],
+    caller: AccessToken | None,
 ) -> WireResult:
     async def relay_progress(progress: float, total: float | None, message: str | None) -> None:
         await ctx.session.report_progress(progress, total, message)
 
-    meta = owner_meta(caller)
+    meta = owner_meta(who(caller), tools=gateway.policy.callable_names(gateway.catalog.tools, caller))
     with anyio.fail_after(route.upstream.call_timeout_s):
         async with gateway.connections.link(route.upstream) as link:
             if link.relay is not None:
@@ -78,7 +82,7 @@ async def _checked_call(
         after = retry_after_s(wait)
         return error_result(f"rate limit reached for this token; retry after {after} s", retryAfterSeconds=after)
     try:
-        result = await _forward(gateway, ctx, route, arguments, who(caller))
+        result = await _forward(gateway, ctx, route, arguments, caller)
     except TimeoutError:
         log.warning("call of %s on %s timed out after %s s", route.original, upstream.name, upstream.call_timeout_s)
         gateway.catalog.failed(upstream)
