@@ -19,7 +19,8 @@ from bagmcp_shared.paths import check_steps, parse_field_path
 @dataclass(frozen=True)
 class FixSource:
     """Where a GPS-like type keeps latitude, longitude (degrees after ``scale_deg``), altitude (metres
-    after ``scale_m``) and its fix status (a fix counts when ``status >= min_status``; no status: all)."""
+    after ``scale_m``) and its fix status (a fix counts when ``status >= min_status``; no status: all); and,
+    for a type several receivers log into (ArduPilot's GPS with ``I``), the field naming the receiver."""
 
     latitude: str
     longitude: str
@@ -28,10 +29,12 @@ class FixSource:
     min_status: float = 0.0
     scale_deg: float = 1.0
     scale_m: float = 1.0
+    instance: str | None = None
 
     @property
     def columns(self) -> list[str]:
-        return [self.latitude, self.longitude, self.altitude, *([self.status] if self.status else [])]
+        optional = [c for c in (self.status, self.instance) if c]
+        return [self.latitude, self.longitude, self.altitude, *optional]
 
 
 _PX4_GPS = (
@@ -43,7 +46,10 @@ FLIGHT_FIXES: dict[str, tuple[FixSource, ...]] = {
     "px4/sensor_gps": _PX4_GPS,
     "px4/vehicle_global_position": (FixSource("lat", "lon", "alt"),),
     "ardupilot/POS": (FixSource("Lat", "Lng", "Alt"),),  # the EKF's position: no fix status
-    "ardupilot/GPS": (FixSource("Lat", "Lng", "Alt", "Status", 3.0),),  # Status 3: a 3D fix
+    "ardupilot/GPS": (  # Status 3: a 3D fix; I: the receiver (logs before ArduPilot 4.0 have GPS2 instead)
+        FixSource("Lat", "Lng", "Alt", "Status", 3.0, instance="I"),
+        FixSource("Lat", "Lng", "Alt", "Status", 3.0),
+    ),
 }
 # Local positions (metres, x north, y east, z down) and their heading field (rad; PX4 before 1.13: ``yaw``)
 FLIGHT_POSES: dict[str, tuple[str, ...]] = {"px4/vehicle_local_position": ("heading", "yaw")}
@@ -73,7 +79,7 @@ FLIGHT_COLUMNS: dict[str, tuple[tuple[str, ...], ...]] = {
     "px4/vehicle_status": (("nav_state", "arming_state"),),
     "px4/battery_status": (("voltage_v", "current_a", "remaining"),),
     "px4/vehicle_attitude": (tuple(f"q[{i}]" for i in range(4)),),
-    "ardupilot/GPS": (("Lat", "Lng", "Alt", "Status", "Spd"),),
+    "ardupilot/GPS": (("Lat", "Lng", "Alt", "Status", "Spd", "I"), ("Lat", "Lng", "Alt", "Status", "Spd")),
     "ardupilot/POS": (("Lat", "Lng", "Alt", "RelHomeAlt"),),
     "ardupilot/ATT": (("Roll", "Pitch", "Yaw", "DesRoll", "DesPitch", "DesYaw"),),
     "ardupilot/BAT": (("Volt", "Curr"),),
