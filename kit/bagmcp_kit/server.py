@@ -11,6 +11,7 @@ from pydantic import AnyHttpUrl
 
 from bagmcp_kit.arguments import CONVENTIONS, register
 from bagmcp_kit.auth import SERVICE_SCOPE, ServiceTokenVerifier
+from bagmcp_kit.ingest_wait import IngestWait, wait_for_ingest
 from bagmcp_kit.toolsets import tools_of
 from bagmcp_shared.settings import ServiceSettings
 
@@ -34,11 +35,13 @@ def new_server(
     purpose: str,
     tools: Sequence[object],
     guard: Guard | None = None,
+    ingest: IngestWait | None = None,
 ) -> MCPServer:
     """An MCP server with the marked tools of ``tools`` (objects, in order), whose instructions state
     what it is for and the shared conventions once.
 
-    Without a ``guard`` the server is for in-process use (embedded mode, tests)."""
+    Without a ``guard`` the server is for in-process use (embedded mode, tests). With ``ingest``, a call about a
+    bag still being ingested waits for it (see ingest_wait.py)."""
     instructions = f"{purpose} {CONVENTIONS}"
     if guard is None:
         server = MCPServer(name, instructions=instructions)
@@ -53,4 +56,6 @@ def new_server(
             name, instructions=instructions, token_verifier=ServiceTokenVerifier(guard.service_token), auth=auth
         )
     register(server, tools_of(*tools))
+    if ingest is not None:
+        server.middleware.append(wait_for_ingest(ingest.catalog, budget_s=ingest.budget_s))
     return server

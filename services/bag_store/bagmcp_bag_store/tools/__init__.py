@@ -9,6 +9,7 @@ from bagmcp_bag_store.tools.catalog_tools import CatalogTools
 from bagmcp_bag_store.tools.fleet_tools import FleetTools, views_resource
 from bagmcp_bag_store.tools.message_tools import MessageTools
 from bagmcp_bag_store.tools.search_tools import SearchTools
+from bagmcp_kit.ingest_wait import IngestWait
 from bagmcp_kit.longwork import LongWork
 from bagmcp_kit.server import Guard, new_server
 from bagmcp_shared.access import BagAccess
@@ -25,6 +26,7 @@ def build_server(
         SearchTools(access, work),
         FleetTools(fleet, work),
     ]
-    server = new_server("bagmcp-bag-store", purpose=PURPOSE, tools=tools, guard=guard)
+    ingest = IngestWait(access.catalog, work.budget_s)
+    server = new_server("bagmcp-bag-store", purpose=PURPOSE, tools=tools, guard=guard, ingest=ingest)
     views_resource(server)
     return server
