@@ -1,6 +1,6 @@
 """Answers across the real recordings (../shared/data/bags, every readable format) agree with the per-bag
 tools: topic counts with bag_info, TF edges with get_tf_tree, ERROR-or-worse counts with analyze_logs, and
-each pose topic's rows and top speed with analyze_trajectory."""
+each pose topic's rows and top speed with analyze_trajectory (PX4 local positions included)."""
 
 from __future__ import annotations
 
@@ -15,11 +15,12 @@ from mcp import Client
 from bagmcp_cli.embedded import compose
 from bagmcp_cli.settings import EmbeddedSettings
 from bagmcp_gateway.aggregator import build_gateway_server
+from bagmcp_shared.index import RECORD_TYPES
 from tests.checks.fleet_checks import long, query
 from tests.fixtures.mcp_client import call
 
 pytestmark = [pytest.mark.anyio, pytest.mark.corpus]
-LOG_TYPES = ("rosgraph_msgs/msg/Log", "rcl_interfaces/msg/Log")
+LOG_TYPES = tuple(sorted(RECORD_TYPES))  # ROS logs and flight-log texts
 
 
 async def _ready(client: Client) -> list[dict[str, Any]]:
@@ -69,6 +70,7 @@ async def _check_logs_and_poses(client: Client) -> None:
             )
             checked += 1
     assert checked >= 3  # the corpus holds odometry of several robots
+    assert any("local_position" in str(topic) for _, topic, _, _ in poses)  # and PX4 flights
 
 
 async def test_answers_across_the_corpus_agree_with_the_per_bag_tools(corpus: Path, tmp_path: Path) -> None:
