@@ -1,6 +1,6 @@
 """Answers across the real recordings (../shared/data/bags, every readable format) agree with the per-bag
 tools: topic counts with bag_info, TF edges with get_tf_tree, ERROR-or-worse counts with analyze_logs, and
-each pose topic's rows and top speed with analyze_trajectory."""
+each pose topic's rows and top speed with analyze_trajectory (PX4 local positions included)."""
 
 from __future__ import annotations
 
@@ -15,11 +15,12 @@ from mcp import Client
 from bagmcp_cli.embedded import compose
 from bagmcp_cli.settings import EmbeddedSettings
 from bagmcp_gateway.aggregator import build_gateway_server
+from bagmcp_shared.index import RECORD_TYPES
 from tests.checks.fleet_checks import long, query
 from tests.fixtures.mcp_client import call
 
 pytestmark = [pytest.mark.anyio, pytest.mark.corpus]
-LOG_TYPES = ("rosgraph_msgs/msg/Log", "rcl_interfaces/msg/Log")
+LOG_TYPES = tuple(sorted(RECORD_TYPES))  # ROS logs and flight-log texts
 
 
 async def _ready(client: Client) -> list[dict[str, Any]]:
@@ -31,35 +32,36 @@ async def _ready(client: Client) -> list[dict[str, Any]]:
             await anyio.sleep(0.3)
 
 
-def _grouped(answer: dict[str, Any], width: int) -> dict[str, dict[tuple[Any, ...], Any]]:
-    found: dict[str, dict[tuple[Any, ...], Any]] = {}
-    for row in answer["rows"]:
-        found.setdefault(row[0], {})[tuple(row[1:width])] = row[width] if len(row) > width else True
-    return found
+async def _rows(client: Client, sql: str) -> list[list[Any]]:
+    """Every row of a query (its answer must not be cut: the checks below keep their answers small)."""
+    answer = await query(client, sql)
+    assert not answer["truncated"], sql
+    return list(answer["rows"])
 
 
 async def _check_topics_and_tf(client: Client, bags: list[dict[str, Any]]) -> None:
-    counts = _grouped(await query(client, "SELECT bag, topic, count FROM topics ORDER BY bag, topic LIMIT 100000"), 2)
-    edges = _grouped(await query(client, "SELECT bag, parent, child, static, count FROM tf_edges"), 4)
     for bag in bags:
-        info = await call(client, "bag_info", bag=bag["name"])
-        assert counts.get(bag["name"], {}) == {(t["name"],): t["count"] for t in info["topics"]}, bag["name"]
+        name = bag["name"]
+        info = await call(client, "bag_info", bag=name)
+        counts = await _rows(client, f"SELECT topic, count FROM topics WHERE bag = '{name}'")
+        assert dict(map(tuple, counts)) == {t["name"]: t["count"] for t in info["topics"]}, name
         if any(t["type"] in ("tf2_msgs/msg/TFMessage", "tf/msg/tfMessage") for t in info["topics"]):
-            tree = await long(client, "get_tf_tree", bag=bag["name"])
+            tree = await long(client, "get_tf_tree", bag=name)
+            edges = await _rows(client, f"SELECT parent, child, static, count FROM tf_edges WHERE bag = '{name}'")
             wanted = {(e["parent"], e["child"], e["static"]): e["count"] for e in tree["edges"]}
-            assert edges.get(bag["name"], {}) == wanted, bag["name"]
+            assert {(p, c, s): n for p, c, s, n in edges} == wanted, name
 
 
 async def _check_logs_and_poses(client: Client) -> None:
-    errors = _grouped(await query(client, "SELECT bag, count(*) FROM logs WHERE level_rank >= 3 GROUP BY bag"), 1)
-    poses = await query(client, "SELECT bag, topic, count(*), max(speed) FROM poses GROUP BY ALL LIMIT 100000")
-    logged = await query(client, f"SELECT DISTINCT bag FROM topics WHERE count > 0 AND type IN {LOG_TYPES}")
-    assert len(logged["rows"]) >= 3
-    for (name,) in logged["rows"]:
+    errors = dict(map(tuple, await _rows(client, "SELECT bag, count(*) FROM logs WHERE level_rank >= 3 GROUP BY bag")))
+    poses = await _rows(client, "SELECT bag, topic, count(*), max(speed) FROM poses GROUP BY ALL")
+    logged = await _rows(client, f"SELECT DISTINCT bag FROM topics WHERE count > 0 AND type IN {LOG_TYPES}")
+    assert len(logged) >= 3
+    for (name,) in logged:
         logs = await long(client, "analyze_logs", bag=name, min_level="ERROR", limit=1)
-        assert errors.get(name, {}).get((), 0) == logs["total"], name
+        assert errors.get(name, 0) == logs["total"], name
     checked = 0
-    for name, topic, rows, top in poses["rows"]:
+    for name, topic, rows, top in poses:
         trajectory = await long(client, "analyze_trajectory", bag=name, topic=topic)
         assert rows == trajectory["samples"], (name, topic)
         if trajectory["max_speed_mps"] is not None:
@@ -68,6 +70,7 @@ async def _check_logs_and_poses(client: Client) -> None:
             )
             checked += 1
     assert checked >= 3  # the corpus holds odometry of several robots
+    assert any("local_position" in str(topic) for _, topic, _, _ in poses)  # and PX4 flights
 
 
 async def test_answers_across_the_corpus_agree_with_the_per_bag_tools(corpus: Path, tmp_path: Path) -> None:

@@ -14,7 +14,8 @@ from bagmcp_bag_store.fleet.motion import pose_speeds, topic_gap
 from bagmcp_bag_store.fleet.tf_rows import tf_edge_rows
 from bagmcp_bag_store.fleet.views import VIEWS
 from bagmcp_shared.catalog import BagRecord, CatalogSummary
-from bagmcp_shared.index import LOG_TYPES, TF_TYPES, ColumnIndex
+from bagmcp_shared.flight_types import FLIGHT_POSES
+from bagmcp_shared.index import RECORD_TYPES, TF_TYPES, ColumnIndex
 from bagmcp_shared.local_fixes import local_metres
 from bagmcp_shared.log_levels import level_name, level_rank
 
@@ -110,7 +111,20 @@ def poses(bag: IngestedBag) -> pa.Table:
         speed = pose_speeds(t_ns, header_ns, x, y)
         return _timed(bag, topic, t_ns, {"x": x, "y": y, "z": z, "yaw": yaw, "speed": speed})
 
-    return _table("poses", bag, _series_rows(bag, _POSES, build))
+    flights = [r for topic, msgtype in bag.topics_of(FLIGHT_POSES) if (r := _flight_pose(bag, topic, msgtype))]
+    return _table("poses", bag, [*_series_rows(bag, _POSES, build), *flights])
+
+
+def _flight_pose(bag: IngestedBag, topic: str, msgtype: str) -> Arrays | None:
+    """A flight log's local position (x, y, z at the top level; the heading under the name its version uses)."""
+    known = bag.index.columns(topic) if bag.index is not None else []
+    heading = next((h for h in FLIGHT_POSES[msgtype] if h in known), None)
+    found = _read(bag, topic, ["x", "y", "z", heading]) if heading is not None else None
+    if found is None:
+        return None
+    t_ns, header_ns, (x, y, z, yaw) = found
+    speed = pose_speeds(t_ns, header_ns, x, y)
+    return _timed(bag, topic, t_ns, {"x": x, "y": y, "z": z, "yaw": yaw, "speed": speed})
 
 
 def twists(bag: IngestedBag) -> pa.Table:
@@ -183,7 +197,7 @@ def gps(bag: IngestedBag) -> pa.Table:
 def logs(bag: IngestedBag) -> pa.Table:
     parts: list[Arrays] = []
     index = bag.index
-    for topic, msgtype in bag.topics_of(LOG_TYPES):
+    for topic, msgtype in bag.topics_of(RECORD_TYPES):  # ROS logs and flight-log texts (ROS 1 level numbers)
         records = index.logs(topic) if index is not None else None
         if not records:
             continue

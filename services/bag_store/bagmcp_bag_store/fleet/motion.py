@@ -8,34 +8,41 @@ import numpy as np
 import numpy.typing as npt
 
 from bagmcp_shared.index import ColumnIndex
-from bagmcp_shared.timebase import MAX_CLOCK_SKEW_NS
 
 MIN_WINDOW_NS = 50_000_000
+MAX_RATE_RATIO = 20.0
 Floats = npt.NDArray[np.float64]
 
 
-def _clock(t_ns: npt.NDArray[np.int64], header_ns: npt.NDArray[np.int64]) -> npt.NDArray[np.int64]:
-    """Header stamps when every one is set, they never go backwards and they are on the log's clock (the rule
-    analyze_trajectory follows), else log times."""
+def _clock(t_ns: npt.NDArray[np.int64], header_ns: npt.NDArray[np.int64]) -> tuple[npt.NDArray[np.int64], bool]:
+    """(stamps, on log time): header stamps when every one is set, they never go backwards and they advance with
+    log time (at a rate within MAX_RATE_RATIO of it: a simulation's clock counts), else log times. The rule of
+    analyze_trajectory (analysis/queries/poses.py, pose_clock), kept in step with it."""
     if len(header_ns) < 2 or (header_ns <= 0).any() or (np.diff(header_ns) < 0).any():
-        return t_ns
-    return header_ns if float(np.median(np.abs(header_ns - t_ns))) <= MAX_CLOCK_SKEW_NS else t_ns
+        return t_ns, True
+    log_span, header_span = int(t_ns.max() - t_ns.min()), int(header_ns[-1] - header_ns[0])
+    if header_span <= 0 or (log_span > 0 and not 1 / MAX_RATE_RATIO <= header_span / log_span <= MAX_RATE_RATIO):
+        return t_ns, True
+    return header_ns, False
 
 
 def pose_speeds(t_ns: npt.NDArray[np.int64], header_ns: npt.NDArray[np.int64], x: Floats, y: Floats) -> Floats:
     """Each pose's 2D speed (m/s): the straight-line distance to the first pose at least one window later, over
     the time between them. The window is max(0.05 s, 2 x the median step), as analyze_trajectory's, so batched
-    stamps give no absurd speeds and the largest of these is at least analyze_trajectory's max_speed_mps (its
-    windows start at some of these poses). Poses within one window of the end take the last full window's
-    speed; NaN when the stamps never advance."""
+    stamps give no absurd speeds; on log time a window's time is at least its steps x the median step (a
+    recorder's stall and burst is no speed peak), also as analyze_trajectory's. The largest of these speeds
+    is at least analyze_trajectory's max_speed_mps (its windows start at some of these poses). Poses within
+    one window of the end take the last full window's speed; NaN when the stamps never advance."""
     count = len(t_ns)
     speeds = np.full(count, np.nan)
-    mono = np.maximum.accumulate(_clock(t_ns, header_ns)) if count else t_ns
+    stamps, log_time = _clock(t_ns, header_ns) if count else (t_ns, True)
+    mono = np.maximum.accumulate(stamps) if count else t_ns
     steps = np.diff(mono)
     positive = steps[steps > 0]
     if positive.size == 0:
         return speeds
-    window_ns = max(MIN_WINDOW_NS, math.ceil(2.0 * float(np.median(positive))))
+    median_ns = float(np.median(positive))
+    window_ns = max(MIN_WINDOW_NS, math.ceil(2.0 * median_ns))
     ends = np.searchsorted(mono, mono + window_ns, side="left")
     full = ends < count
     if not full.any():  # shorter than one window: measure over everything
@@ -43,7 +50,10 @@ def pose_speeds(t_ns: npt.NDArray[np.int64], header_ns: npt.NDArray[np.int64], x
         return np.full(count, math.hypot(x[-1] - x[0], y[-1] - y[0]) / elapsed)
     starts = np.flatnonzero(full)
     stop = ends[starts]
-    speeds[starts] = np.hypot(x[stop] - x[starts], y[stop] - y[starts]) / ((mono[stop] - mono[starts]) * 1e-9)
+    elapsed_s = (mono[stop] - mono[starts]) * 1e-9
+    if log_time:
+        elapsed_s = np.maximum(elapsed_s, (stop - starts) * median_ns * 1e-9)
+    speeds[starts] = np.hypot(x[stop] - x[starts], y[stop] - y[starts]) / elapsed_s
     speeds[starts[-1] + 1 :] = speeds[starts[-1]]
     return speeds
 

@@ -91,7 +91,7 @@ VIEWS: dict[str, View] = {
         ),
         _series(
             "poses",
-            "odometry and pose topics; speed m/s over >= 0.05 s windows (header clock when sane)",
+            "odometry, pose topics and PX4 local positions; speed m/s over >= 0.05 s windows (header clock when sane)",
             _c("x y z yaw speed"),
             ("analyze_trajectory",),
         ),
@@ -114,7 +114,7 @@ VIEWS: dict[str, View] = {
         ),
         _series(
             "logs",
-            "rosout records; level DEBUG INFO WARN ERROR FATAL, level_rank 0..4",
+            "ROS log records and flight-log texts; level DEBUG INFO WARN ERROR FATAL, level_rank 0..4",
             (Column("level", _S), Column("level_rank", _I), *_c("node text file function", _S), Column("line", _I)),
             ("analyze_logs",),
         ),
