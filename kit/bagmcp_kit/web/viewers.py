@@ -13,7 +13,8 @@ from __future__ import annotations
 
 from typing import Any
 
-from mcp.server.apps import APP_MIME_TYPE, EXTENSION_ID
+import mcp.types as types
+from mcp.server.apps import APP_MIME_TYPE
 from mcp.server.mcpserver import MCPServer
 from mcp.server.mcpserver.resources import TextResource
 
@@ -87,13 +88,9 @@ def without_view_data(result: dict[str, Any]) -> dict[str, Any]:
     return {**trimmed, "_meta": kept} if kept else trimmed
 
 
-def advertises_apps(capabilities: Any) -> bool:
-    """Whether client capabilities (a model or its wire dict) list the Apps extension with HTML views."""
-    if capabilities is None:
-        return False
-    extensions = (
-        capabilities.get("extensions") if isinstance(capabilities, dict) else getattr(capabilities, "extensions", None)
-    )
-    settings = extensions.get(EXTENSION_ID) if isinstance(extensions, dict) else None
-    mime_types = settings.get("mimeTypes") if isinstance(settings, dict) else None
-    return isinstance(mime_types, list) and APP_MIME_TYPE in mime_types
+def without_viewer(tool: types.Tool) -> types.Tool:
+    """``tool`` as a client without Apps is shown it: as before viewers existed (no ``_meta.ui``)."""
+    if not tool.meta or "ui" not in tool.meta:
+        return tool
+    kept = {k: v for k, v in tool.meta.items() if k != "ui"}
+    return tool.model_copy(update={"meta": kept or None})
