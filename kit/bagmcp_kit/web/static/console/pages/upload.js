@@ -31,7 +31,7 @@
   }
 
   ns.uploadBox = function uploadBox(box, done) {
-    const picker = el("input", { type: "file", id: "upload-file", multiple: true, class: "visually-hidden-input" });
+    const picker = el("input", { type: "file", id: "upload-file", multiple: true});
     const list = el("ul", { class: "uploads", "aria-label": "uploads" });
     const zone = el("div", { class: "dropzone", id: "dropzone" },
       el("p", {}, "Drop bag files here (.bag, .mcap, .db3, .ulg, .bin, or a ROS 2 bag directory as .zip/.tar)"),
