@@ -13,7 +13,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from playwright.sync_api import ConsoleMessage, Error, Frame, Page, ViewportSize
+from playwright.sync_api import ConsoleMessage, Dialog, Error, Frame, Page, ViewportSize
 
 ROOT = Path(__file__).resolve().parents[3]
 CHROMIUM = Path(os.environ.get("BAGMCP_CHROMIUM", "/usr/bin/chromium"))
@@ -87,3 +87,29 @@ def screenshot(page: Page, name: str) -> Path | None:
 def drawn(page_or_frame: Any) -> list[dict[str, Any]]:
     """What the shared views drew (``BagViews.drawn``), as plain JSON."""
     return list(json.loads(page_or_frame.evaluate("JSON.stringify(window.BagViews.drawn || [])")))
+
+
+def sign_in(page: Page, url: str, token: str) -> None:
+    """Open the console at ``url`` and sign in with ``token`` (the bag list shows once it is accepted)."""
+    page.goto(f"{url}/")
+    page.fill("#token", token)
+    page.click("form button[type=submit]")
+    page.wait_for_selector("#bag-list table")
+
+
+def overflows_horizontally(page: Page) -> bool:
+    """Whether the page is wider than the window (a phone would scroll sideways)."""
+    return bool(page.evaluate("document.documentElement.scrollWidth > window.innerWidth + 1"))
+
+
+def record_dialogs(page: Page) -> list[str]:
+    """The messages of every alert/confirm the page opens from now on (each dismissed): script injected
+    through a name or a log line would open one."""
+    seen: list[str] = []
+
+    def dismiss(dialog: Dialog) -> None:
+        seen.append(dialog.message)
+        dialog.dismiss()
+
+    page.on("dialog", dismiss)
+    return seen
