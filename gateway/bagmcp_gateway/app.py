@@ -154,6 +154,6 @@ def create_app(
     def metrics() -> Response:
         return Response(gateway.metrics.exposition(), media_type=gateway.metrics.content_type)
 
-    install_console(app)
+    install_console(app, token_required=verifier is not None)
     app.mount("/", UniformAuthErrors(mcp_app))
     return app

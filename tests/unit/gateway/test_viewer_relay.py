@@ -53,6 +53,9 @@ def test_view_data_is_dropped_and_everything_else_kept() -> None:
 
 async def test_a_client_without_apps_sees_no_viewer_and_no_view_data(served: InProcess) -> None:
     async with Client(served.gateway(), cache=None) as client:
+        capabilities = client.session.server_capabilities
+        assert capabilities is not None
+        assert "io.modelcontextprotocol/ui" in (capabilities.extensions or {})
         tools = (await client.list_tools()).tools
         assert all(not (t.meta or {}).get("ui") for t in tools)
         answer = await client.call_tool("plot_timeseries", {"bag": "scenario", "paths": ["/cmd_vel.linear.x"]})

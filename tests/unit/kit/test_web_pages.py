@@ -12,7 +12,7 @@ from bagmcp_kit.web.pages import CSP
 
 def _client() -> TestClient:
     app = FastAPI()
-    install_console(app)
+    install_console(app, token_required=True)
     return TestClient(app)
 
 
@@ -29,6 +29,7 @@ def test_the_console_page_and_its_files_carry_the_csp() -> None:
     assert script.headers["content-security-policy"] == CSP
     assert script.headers["x-content-type-options"] == "nosniff"
     assert "textContent" in script.text or "createTextNode" in script.text
+    assert client.get("/console.json").json() == {"token_required": True}
 
 
 def test_static_files_stay_inside_their_folder_and_list_nothing() -> None:
