@@ -18,7 +18,7 @@ from bagmcp_gateway.audit import AuditLog
 from bagmcp_gateway.auth import rest_auth
 from bagmcp_gateway.catalog import ToolCatalog
 from bagmcp_gateway.connections import Connections
-from bagmcp_gateway.console import install_console
+from bagmcp_gateway.console import build_session_router, install_console
 from bagmcp_gateway.events import RedisSubscriptionBus, channel_for
 from bagmcp_gateway.metrics import GatewayMetrics
 from bagmcp_gateway.ratelimit import MemoryRateLimiter, RateLimiter, RedisRateLimiter
@@ -121,7 +121,7 @@ def create_app(
         if on_shutdown is not None:
             on_shutdown()
 
-    routers = [*rest]
+    routers = [*rest, build_session_router(verifier, tokens_managed=store is not None and verifier is not None)]
     if store is not None and verifier is not None:
         routers.insert(0, build_admin_router(store, profiles=list(settings.policy.profiles), forget=verifier.forget))
     guard = rest_auth(verifier)

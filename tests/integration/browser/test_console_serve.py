@@ -40,6 +40,7 @@ def test_a_tokenless_local_server_opens_on_its_bags_and_draws_a_bag(embedded: st
     page.wait_for_selector("#bag-list table")
     assert page.locator("#token").count() == 0
     assert page.is_hidden("#signout")
+    assert page.is_hidden("#nav-tokens")  # no tokens to manage here
     page.click("#bag-list a:text('scenario')")
     page.click("#tab-trajectory")
     page.wait_for_selector("#panel-trajectory canvas")
