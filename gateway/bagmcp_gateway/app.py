@@ -121,7 +121,8 @@ def create_app(
         if on_shutdown is not None:
             on_shutdown()
 
-    routers = [*rest, build_session_router(verifier, tokens_managed=store is not None and verifier is not None)]
+    # before the REST front (team mode forwards every other /api/v1 path to a service)
+    routers = [build_session_router(verifier, tokens_managed=store is not None and verifier is not None), *rest]
     if store is not None and verifier is not None:
         routers.insert(0, build_admin_router(store, profiles=list(settings.policy.profiles), forget=verifier.forget))
     guard = rest_auth(verifier)
