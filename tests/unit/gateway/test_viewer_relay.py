@@ -9,6 +9,7 @@ from typing import Any
 import mcp.types as types
 import pytest
 from mcp import Client
+from mcp.client.extension import advertise
 
 from bagmcp_gateway.upstreams import Upstream
 from bagmcp_kit.web.viewers import VIEW_META_KEY, without_view_data, without_viewer
@@ -17,6 +18,7 @@ from tests.fixtures.inprocess import InProcess
 
 pytestmark = pytest.mark.anyio
 APP_MIME = "text/html;profile=mcp-app"
+APPS = [advertise("io.modelcontextprotocol/ui", {"mimeTypes": [APP_MIME]})]
 
 
 def _upstream(prefix: str | None) -> Upstream:
@@ -69,10 +71,12 @@ async def test_a_client_without_apps_sees_no_viewer_and_no_view_data(served: InP
         assert "ui/initialize" in content.text
 
 
-async def test_the_service_answer_carries_the_numbers_the_viewer_draws(served: InProcess) -> None:
-    async with Client(served.service("plotting"), cache=None) as client:
+async def test_an_apps_client_gets_the_numbers_the_viewer_draws_through_the_gateway(served: InProcess) -> None:
+    async with Client(served.gateway(), cache=None, extensions=APPS) as client:
         listed = {t.name: t for t in (await client.list_tools()).tools}
         assert (listed["plot_timeseries"].meta or {})["ui"] == {"resourceUri": "ui://plotting/viewer.html"}
+        assert (listed["analyze_trajectory"].meta or {})["ui"] == {"resourceUri": "ui://analysis/viewer.html"}
+        assert "ui" not in (listed["bag_info"].meta or {})
         answer = await client.call_tool("plot_timeseries", {"bag": "scenario", "paths": ["/cmd_vel.linear.x"]})
     view = (answer.meta or {})[VIEW_META_KEY]
     (series,) = view["series"]
@@ -83,8 +87,16 @@ async def test_the_service_answer_carries_the_numbers_the_viewer_draws(served: I
     assert series["v"] == pytest.approx([sc.cmd_speed_at(t) for t in series["t"]])
 
 
-async def test_a_trajectory_answer_carries_the_path_and_a_scan_answer_the_scans(served: InProcess) -> None:
+async def test_a_service_adds_views_only_for_callers_that_draw_them(served: InProcess) -> None:
+    arguments = {"bag": "scenario", "topic": "/odom"}
     async with Client(served.service("analysis"), cache=None) as client:
+        plain = await client.call_tool("analyze_trajectory", arguments)
+    assert not plain.is_error
+    assert VIEW_META_KEY not in (plain.meta or {})  # nothing read again for a client that does not draw it
+
+
+async def test_a_trajectory_answer_carries_the_path_and_a_scan_answer_the_scans(served: InProcess) -> None:
+    async with Client(served.service("analysis"), cache=None, extensions=APPS) as client:
         path = await client.call_tool("analyze_trajectory", {"bag": "scenario", "topic": "/odom"})
         scans = await client.call_tool("analyze_lidar_scan", {"bag": "scenario", "within": 0.5})
     trajectory = (path.meta or {})[VIEW_META_KEY]

@@ -141,20 +141,28 @@
     const when = el("output", { for: "image-time" }, fmt.seconds(0));
     const out = el("div", { id: "image-out" });
     panel.append(el("div", { class: "row" }, topic.field, el("div", { class: "field" }, el("label", { for: "image-time" }, "Time"), time), when), out);
-    let pending = null;
+    let pending = null, latest = 0;
+    /* Only the answer to the latest request is shown (a slow earlier one must not replace it). */
     async function show() {
-      const answer = await ns.api.callToolOk("get_image_at_time", { bag: bag.id, topic: topic.node.value, time: Number(time.value) });
-      const picture = (answer.content || []).find((b) => b.type === "image");
-      const r = answer.structuredContent || {};
-      ns.replace(out, picture ? el("img", { class: "picture", src: "data:" + picture.mimeType + ";base64," + picture.data,
-        alt: topic.node.value + " at " + fmt.seconds(r.time ? r.time.offset_s : Number(time.value)) }) : null,
-        el("p", { class: "muted" }, ns.api.resultText(answer)));
+      const mine = ++latest;
+      const request = { bag: bag.id, topic: topic.node.value, time: Number(time.value) };
+      let shownNodes;
+      try {
+        const answer = await ns.api.callToolOk("get_image_at_time", request);
+        const picture = (answer.content || []).find((b) => b.type === "image");
+        const r = answer.structuredContent || {};
+        shownNodes = [picture ? el("img", { class: "picture", src: "data:" + picture.mimeType + ";base64," + picture.data,
+          alt: request.topic + " at " + fmt.seconds(r.time ? r.time.offset_s : request.time) }) : null,
+          el("p", { class: "muted" }, ns.api.resultText(answer))];
+      } catch (err) {
+        shownNodes = [ns.shell.errorBox(err)];
+      }
+      if (mine === latest) ns.replace(out, shownNodes);
     }
-    const shown = () => show().catch((e) => ns.replace(out, ns.shell.errorBox(e)));
-    const later = () => { when.textContent = fmt.seconds(Number(time.value)); clearTimeout(pending); pending = setTimeout(shown, 250); };
+    const later = () => { when.textContent = fmt.seconds(Number(time.value)); clearTimeout(pending); pending = setTimeout(show, 250); };
     time.addEventListener("input", later);
     topic.node.addEventListener("change", later);
-    await shown();
+    await show();
   }
 
   ns.bagViews = { plot, trajectory, scan, logs, tf, image };
