@@ -42,18 +42,30 @@
       const numeric = (answer.structuredContent.fields || []).filter((f) => /^(float|int|uint|bool|byte|char)/.test(f.type));
       ns.replace(field.node, numeric.map((f) => el("option", { value: f.path }, f.path + (f.unit ? " [" + f.unit + "]" : ""))));
     }
+    let latest = 0;
+    /* Only the latest request's answer is drawn (an earlier, slower one must not replace it). */
     async function draw() {
-      busy(out, "Reading " + topic.node.value + "." + field.node.value + "…");
-      const answer = await call("plot_timeseries", { bag: bag.id, paths: [topic.node.value + "." + field.node.value] });
+      const mine = ++latest;
+      const path = topic.node.value + "." + field.node.value;
+      busy(out, "Reading " + path + "…");
+      let answer;
+      try {
+        answer = await call("plot_timeseries", { bag: bag.id, paths: [path] });
+      } catch (err) {
+        if (mine === latest) throw err;
+        return;
+      }
+      if (mine !== latest) return;
       const view = viewOf(answer);
       ns.clear(out);
       if (view) ns.timeseries(out, view, {}); else out.appendChild(el("p", {}, ns.api.resultText(answer)));
     }
+    /* A failure shows beside the controls, which stay usable. */
     const guard = (fn) => () => fn().catch((err) => ns.replace(out, ns.shell.errorBox(err)));
     topic.node.addEventListener("change", guard(fields));
     go.addEventListener("click", guard(draw));
-    await fields();
-    if (field.node.options.length) await draw();
+    await guard(fields)();
+    if (field.node.options.length) await guard(draw)();
   }
 
   function numbersTable(panel, rows) {
