@@ -12,15 +12,23 @@
   const topicsOf = (bag, pattern) => ((bag.summary && bag.summary.topics) || []).filter((t) => !pattern || pattern.test(t.type));
   const result = (answer) => (answer.structuredContent && answer.structuredContent.result) || answer.structuredContent || {};
   const viewOf = (answer) => (answer._meta && answer._meta[VIEW_KEY]) || null;
-  /* A tool answer; work that became a job is remembered for the Jobs page and reported as such. */
-  async function call(name, args) {
+  /* A tool answer. Work that outlives its time budget becomes a job: it is listed on the Jobs page and
+     followed here (get_job each second) until it ends; then a plot is asked again (it is stored, so it
+     answers at once, with its view), and an analysis answers with the job's result (numbers, no drawing). */
+  async function call(name, args, onProgress) {
     const answer = await ns.api.callToolOk(name, args);
     const job = answer.structuredContent && answer.structuredContent.job;
-    if (job) {
-      ns.rememberJob(job, name + " on " + args.bag);
-      throw new Error("Still running as job " + job.job_id + " (" + Math.round(job.progress * 100) + "%); follow it on the Jobs page and open this tab again when it is done.");
+    if (!job) return answer;
+    ns.rememberJob(job, name + " on " + args.bag);
+    for (;;) {
+      await new Promise((resolve) => setTimeout(resolve, 1000));
+      const now = (await ns.api.callToolOk("get_job", { job_id: job.job_id })).structuredContent;
+      if (onProgress) onProgress(now);
+      if (now.state === "succeeded") {
+        return name.startsWith("plot_") ? ns.api.callToolOk(name, args) : { structuredContent: { result: now.result }, content: [] };
+      }
+      if (now.state === "failed" || now.state === "cancelled") throw new Error("job " + job.job_id + " " + now.state + ": " + (now.error || now.message));
     }
-    return answer;
   }
   const busy = (box, text) => ns.replace(box, el("p", { class: "muted", role: "status" }, text));
 
@@ -50,7 +58,8 @@
       busy(out, "Reading " + path + "…");
       let answer;
       try {
-        answer = await call("plot_timeseries", { bag: bag.id, paths: [path] });
+        answer = await call("plot_timeseries", { bag: bag.id, paths: [path] },
+          (now) => busy(out, "Reading " + path + " as job " + now.job_id + ": " + Math.round(now.progress * 100) + "%"));
       } catch (err) {
         if (mine === latest) throw err;
         return;
