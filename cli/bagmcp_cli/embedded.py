@@ -10,7 +10,7 @@ from mcp.server import Server
 from bagmcp_analysis.embedded import embedded_part as analysis_part
 from bagmcp_bag_store.embedded import embedded_part as bag_store_part
 from bagmcp_cli.settings import EmbeddedSettings
-from bagmcp_cli.token_commands import tokens_file
+from bagmcp_cli.token_actions import tokens_file
 from bagmcp_gateway.aggregator import build_gateway_server
 from bagmcp_gateway.app import create_app
 from bagmcp_gateway.settings import GatewaySettings
@@ -36,7 +36,11 @@ def compose(settings: EmbeddedSettings, *, public_url: str = "") -> Composition:
     embedded = embedded_resources(
         settings.folder, settings.data_dir, job_budget_s=settings.job_budget_s, open_bags=settings.open_bags
     )
-    parts = [bag_store_part(embedded), analysis_part(embedded), plotting_part(embedded, artifact_base_url=public_url)]
+    parts = [
+        bag_store_part(embedded, queries=settings.queries),
+        analysis_part(embedded),
+        plotting_part(embedded, artifact_base_url=public_url),
+    ]
     jobs = Upstream(name="jobs", server=build_jobs_server(embedded.resources.jobs))
     return Composition(embedded, parts, [*(Upstream(name=p.name, server=p.server) for p in parts), jobs])
 

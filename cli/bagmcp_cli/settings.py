@@ -8,6 +8,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
+from bagmcp_bag_store.settings import DEFAULT_QUERY_LIMITS, QueryLimits
 from bagmcp_gateway.ratelimit import Limit
 from bagmcp_gateway.settings import rate_limit_from_env
 from bagmcp_shared.settings import (
@@ -31,6 +32,7 @@ class EmbeddedSettings:
     allowed_hosts: tuple[str, ...] = ()
     rate_limit: Limit | None = None
     open_bags: OpenBagLimits = DEFAULT_OPEN_BAGS
+    queries: QueryLimits = DEFAULT_QUERY_LIMITS
 
     @classmethod
     def from_env(cls, folder: Path, data_dir: Path | None, env: Env | None = None) -> EmbeddedSettings:
@@ -44,6 +46,7 @@ class EmbeddedSettings:
             allowed_hosts=env.items("BAGMCP_ALLOWED_HOSTS"),
             rate_limit=rate_limit_from_env(env, default_per_s=0.0),
             open_bags=OpenBagLimits.from_env(env),
+            queries=QueryLimits.from_env(env),
         )
 
     def http(self, host: str, port: int, *, allowed_hosts: Sequence[str] = ()) -> HttpSettings:

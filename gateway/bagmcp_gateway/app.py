@@ -9,6 +9,7 @@ from collections.abc import AsyncIterator, Callable, Sequence
 import anyio
 from fastapi import APIRouter, Depends, FastAPI
 from fastapi.responses import JSONResponse, Response
+from mcp.server.auth.provider import AccessToken
 from mcp.server.auth.settings import AuthSettings
 from mcp.server.subscriptions import InMemorySubscriptionBus
 from pydantic import AnyHttpUrl
@@ -28,7 +29,7 @@ from bagmcp_gateway.tokens.models import SCOPES, TokenRecord
 from bagmcp_gateway.tokens.store import FileTokenStore, RedisTokenStore, TokenStore
 from bagmcp_gateway.tokens.verifier import GatewayVerifier
 from bagmcp_gateway.upstreams import Upstream
-from bagmcp_kit.error_shape import UniformAuthErrors
+from bagmcp_kit.error_shape import UniformErrors
 from bagmcp_kit.http_errors import StatusTable
 from bagmcp_kit.service_app import HOST_CHECK_IN_MIDDLEWARE, new_app
 from bagmcp_shared.redis_errors import answers
@@ -125,7 +126,11 @@ def create_app(
     routers = [build_session_router(verifier, tokens_managed=store is not None and verifier is not None), *rest]
     if store is not None and verifier is not None:
         routers.insert(0, build_admin_router(store, profiles=list(settings.policy.profiles), forget=verifier.forget))
-    guard = rest_auth(verifier)
+
+    async def tools_for(caller: AccessToken | None) -> list[str] | None:
+        return gateway.policy.callable_names(await gateway.tools(), caller)
+
+    guard = rest_auth(verifier, tools_for)
     app = new_app(
         title="bagmcp gateway",
         lifespan=lifespan,
@@ -156,5 +161,5 @@ def create_app(
         return Response(gateway.metrics.exposition(), media_type=gateway.metrics.content_type)
 
     install_console(app, token_required=verifier is not None)
-    app.mount("/", UniformAuthErrors(mcp_app))
+    app.mount("/", UniformErrors(mcp_app))
     return app

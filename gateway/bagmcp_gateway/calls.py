@@ -30,12 +30,16 @@ log = logging.getLogger(__name__)
 
 
 async def _forward(
-    gateway: Gateway, ctx: ServerRequestContext[Any], route: ToolRoute, arguments: dict[str, Any], caller: str
+    gateway: Gateway,
+    ctx: ServerRequestContext[Any],
+    route: ToolRoute,
+    arguments: dict[str, Any],
+    caller: AccessToken | None,
 ) -> WireResult:
     async def relay_progress(progress: float, total: float | None, message: str | None) -> None:
         await ctx.session.report_progress(progress, total, message)
 
-    meta = owner_meta(caller)
+    meta = owner_meta(who(caller), tools=gateway.policy.callable_names(gateway.catalog.tools, caller))
     if client_supports_apps(ctx):  # the service adds the data to draw only for callers that draw it
         meta = cast(RequestParamsMeta, asking_for_views(dict(meta)))
     with anyio.fail_after(route.upstream.call_timeout_s):
@@ -77,13 +81,13 @@ async def _checked_call(
     record.upstream = upstream.name
     if not gateway.policy.allows(route.tool, caller):
         record.outcome = "denied"
-        return error_result(f"{name} is not enabled for this token (its profile, allow/deny lists or scopes)")
+        return error_result(gateway.policy.refusal(route.tool, caller))
     if gateway.limiter is not None and (wait := await gateway.limiter.take(who(caller))):
         record.outcome = "rate_limited"
         after = retry_after_s(wait)
         return error_result(f"rate limit reached for this token; retry after {after} s", retryAfterSeconds=after)
     try:
-        result = await _forward(gateway, ctx, route, arguments, who(caller))
+        result = await _forward(gateway, ctx, route, arguments, caller)
     except TimeoutError:
         log.warning("call of %s on %s timed out after %s s", route.original, upstream.name, upstream.call_timeout_s)
         gateway.catalog.failed(upstream)

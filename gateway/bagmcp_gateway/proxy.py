@@ -11,6 +11,7 @@ from fastapi import APIRouter, Request
 from fastapi.responses import Response, StreamingResponse
 
 from bagmcp_kit.http_errors import error_response
+from bagmcp_kit.identity import TOOLS_HEADER
 
 _HOP_HEADERS = {
     "host",
@@ -23,6 +24,7 @@ _HOP_HEADERS = {
     "proxy-authorization",
     "content-length",
     "origin",  # the gateway checked it; the service behind answers to the gateway, not to the browser
+    TOOLS_HEADER,  # only the gateway names the tools a caller may call
 }
 # The only paths the gateway forwards: a configured segment, then at most two plain segments that start
 # with a letter or digit and hold no '/'. Anything else (e.g. an encoded "../mcp") is refused, so the
@@ -48,6 +50,8 @@ def build_proxy(routes: Mapping[str, str], service_token: str | None) -> APIRout
         headers = {k: v for k, v in request.headers.items() if k.lower() not in _HOP_HEADERS}
         if service_token:
             headers["authorization"] = f"Bearer {service_token}"
+        if (tools := getattr(request.state, "bagmcp_tools", None)) is not None:
+            headers[TOOLS_HEADER] = ",".join(tools)
         upstream_request = client.build_request(
             request.method,
             f"{base}/api/v1/{path}",

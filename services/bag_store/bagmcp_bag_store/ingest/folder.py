@@ -6,18 +6,20 @@ import contextlib
 import json
 import logging
 import time
+from collections.abc import Iterator
 from pathlib import Path
 
 from bagmcp_bag_store.ingest.content import Hashed, content_id, quick_content_id
 from bagmcp_bag_store.ingest.ingest import progress_recorder
 from bagmcp_bag_store.ingest.upload import sanitize_name
-from bagmcp_shared.bags.detect import sniff_file
+from bagmcp_shared.bags.detect import is_dataflash, sniff_file
 from bagmcp_shared.bags.ros2_dir import storage_files
 from bagmcp_shared.catalog import BagRecord, Catalog
 from bagmcp_shared.errors import BagError, BagmcpError, NameTakenError
 
 log = logging.getLogger(__name__)
 _RECORDING_SUFFIXES = (".bag", ".mcap", ".db3", ".ulg", ".ulog")  # recordings, read or refused with a reason
+_DATAFLASH_SUFFIX = ".bin"  # any case (flight controllers write 00000042.BIN); kept when it starts like one
 
 
 def _is_bag_dir(path: Path) -> bool:
@@ -32,7 +34,7 @@ def find_bags(root: Path) -> list[Path]:
             continue
         if entry.is_dir():
             found.extend([entry] if _is_bag_dir(entry) else find_bags(entry))
-        elif entry.suffix in _RECORDING_SUFFIXES:
+        elif entry.suffix in _RECORDING_SUFFIXES or (entry.suffix.lower() == _DATAFLASH_SUFFIX and is_dataflash(entry)):
             found.append(entry)
     return found
 
@@ -92,6 +94,29 @@ def _record(root: Path, bag: Path) -> BagRecord:
     )
 
 
+def twin_names(record: BagRecord, bag: Path) -> Iterator[str]:
+    """Names for a bag, in the order they are tried: its own, then (another bag has it) with its format, then
+    with its folder, then numbered. ``rosbag2_talker`` in ros2_db3/ and ros2_mcap/ become ``rosbag2_talker`` and
+    ``rosbag2_talker_mcap``: a person reads "the MCAP copy", not a range as in ``rosbag2_talker-2``."""
+    yield record.name
+    kinds = [Path(f).suffix.lstrip(".") for f in record.files if f != "metadata.yaml"]
+    if kinds and kinds[0]:
+        yield f"{record.name}_{kinds[0]}"
+    yield f"{record.name}_{sanitize_name(bag.parent.name)}"
+    for n in range(2, 100):
+        yield f"{record.name}_copy{n}"
+
+
+def _claim_name(catalog: Catalog, record: BagRecord, bag: Path) -> str:
+    for name in twin_names(record, bag):
+        try:
+            catalog.claim_name(name, record.id)
+            return name
+        except NameTakenError:
+            continue
+    raise NameTakenError(f"{bag.name}: a hundred bags have its name already; rename it")
+
+
 def catalog_folder(catalog: Catalog, root: Path) -> list[str]:
     """Add every readable-looking bag under ``root`` at once (no bag is read through); returns the ids to
     ingest, smallest bag first, so small bags are usable while large ones are still being hashed."""
@@ -101,14 +126,7 @@ def catalog_folder(catalog: Catalog, root: Path) -> list[str]:
             record = _record(root, bag)
             if catalog.get(record.id) is not None:
                 continue
-            name = record.name
-            for n in range(2, 100):
-                try:
-                    catalog.claim_name(name, record.id)
-                    break
-                except NameTakenError:
-                    name = f"{record.name}-{n}"
-            catalog.add(record.model_copy(update={"name": name}))
+            catalog.add(record.model_copy(update={"name": _claim_name(catalog, record, bag)}))
             if record.status == "ingesting":
                 queued.append((record.size_bytes, record.id))
         except (BagmcpError, OSError) as err:
