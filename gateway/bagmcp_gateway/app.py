@@ -19,6 +19,7 @@ from bagmcp_gateway.audit import AuditLog
 from bagmcp_gateway.auth import rest_auth
 from bagmcp_gateway.catalog import ToolCatalog
 from bagmcp_gateway.connections import Connections
+from bagmcp_gateway.console import build_session_router, install_console
 from bagmcp_gateway.events import RedisSubscriptionBus, channel_for
 from bagmcp_gateway.metrics import GatewayMetrics
 from bagmcp_gateway.ratelimit import MemoryRateLimiter, RateLimiter, RedisRateLimiter
@@ -121,7 +122,8 @@ def create_app(
         if on_shutdown is not None:
             on_shutdown()
 
-    routers = [*rest]
+    # before the REST front (team mode forwards every other /api/v1 path to a service)
+    routers = [build_session_router(verifier, tokens_managed=store is not None and verifier is not None), *rest]
     if store is not None and verifier is not None:
         routers.insert(0, build_admin_router(store, profiles=list(settings.policy.profiles), forget=verifier.forget))
 
@@ -158,5 +160,6 @@ def create_app(
     def metrics() -> Response:
         return Response(gateway.metrics.exposition(), media_type=gateway.metrics.content_type)
 
+    install_console(app, token_required=verifier is not None)
     app.mount("/", UniformErrors(mcp_app))
     return app

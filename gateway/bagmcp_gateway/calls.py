@@ -7,13 +7,15 @@ from __future__ import annotations
 import json
 import logging
 import time
-from typing import Any
+from typing import Any, cast
 
 import anyio
 from mcp.server import ServerRequestContext
+from mcp.server.apps import client_supports_apps
 from mcp.server.auth.middleware.auth_context import get_access_token
 from mcp.server.auth.provider import AccessToken
 from mcp.shared.inbound import mcp_param_headers
+from mcp.types import RequestParamsMeta
 
 from bagmcp_gateway.answers import WireResult, cap_answer, error_result, is_error, text_characters
 from bagmcp_gateway.audit import AuditRecord
@@ -22,6 +24,7 @@ from bagmcp_gateway.gateway import Gateway, who
 from bagmcp_gateway.ratelimit import retry_after_s
 from bagmcp_gateway.resource_routes import with_exposed_links
 from bagmcp_kit.identity import owner_meta
+from bagmcp_kit.web.viewers import asking_for_views, without_view_data
 
 log = logging.getLogger(__name__)
 
@@ -37,6 +40,8 @@ async def _forward(
         await ctx.session.report_progress(progress, total, message)
 
     meta = owner_meta(who(caller), tools=gateway.policy.callable_names(gateway.catalog.tools, caller))
+    if client_supports_apps(ctx):  # the service adds the data to draw only for callers that draw it
+        meta = cast(RequestParamsMeta, asking_for_views(dict(meta)))
     with anyio.fail_after(route.upstream.call_timeout_s):
         async with gateway.connections.link(route.upstream) as link:
             if link.relay is not None:
@@ -99,6 +104,8 @@ async def _checked_call(
             f"the {upstream.name} service is unavailable right now ({type(err).__name__}); try again shortly"
         )
     record.outcome = "error" if is_error(result) else "ok"
+    if not client_supports_apps(ctx):  # the data of an MCP Apps view is only for clients that draw it
+        result = without_view_data(result)
     return cap_answer(with_exposed_links(result, upstream), max_chars=gateway.max_answer_chars)
 
 
