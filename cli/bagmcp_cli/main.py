@@ -11,6 +11,7 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from bagmcp_cli.catalog_commands import add_catalog_commands
+from bagmcp_cli.lab_commands import add_lab_commands
 from bagmcp_cli.surface_commands import add_surface_commands
 from bagmcp_cli.token_commands import add_token_commands
 from bagmcp_shared.bags import open_bag
@@ -137,6 +138,7 @@ def build_parser() -> argparse.ArgumentParser:
     add_token_commands(commands)
     add_surface_commands(commands)
     add_catalog_commands(commands)
+    add_lab_commands(commands)
     return parser
 
 

@@ -1,0 +1,54 @@
+"""What the agent loop needs from a provider: the model's next reply, and a way to hand it tool answers."""
+
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass
+from typing import Any, Protocol
+
+from bagmcp_lab.toolbox import ToolAnswer
+
+SYSTEM_PROMPT = (
+    "You answer questions about robot recordings (bags) by calling the tools given. Times are seconds from the "
+    "bag's start unless stated otherwise. Call the tools you need, then give a short final answer in plain text "
+    "that states the numbers (with units), times and names the tools returned."
+)
+
+
+@dataclass(frozen=True)
+class ProposedCall:
+    """A tool call the model asked for; ``arguments`` is None when the model sent malformed JSON."""
+
+    call_id: str
+    name: str
+    arguments: dict[str, Any] | None
+    raw_arguments: str
+
+
+@dataclass(frozen=True)
+class ModelReply:
+    text: str
+    calls: tuple[ProposedCall, ...]
+    input_tokens: int
+    output_tokens: int
+
+
+class Conversation(Protocol):
+    async def reply(self) -> ModelReply:
+        """The model's next turn over everything said so far."""
+
+    def add_answers(self, answers: list[tuple[ProposedCall, ToolAnswer]]) -> None:
+        """Hand the model the answers to the calls of its last reply."""
+
+
+def parse_arguments(raw: str | dict[str, Any] | None) -> dict[str, Any] | None:
+    """A call's arguments as an object, or None when they are not a JSON object."""
+    if isinstance(raw, dict):
+        return raw
+    if not raw:
+        return {}
+    try:
+        value = json.loads(raw)
+    except ValueError:
+        return None
+    return value if isinstance(value, dict) else None
