@@ -5,11 +5,12 @@ from __future__ import annotations
 import hashlib
 import ipaddress
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 from bagmcp_gateway.ratelimit import Limit
 from bagmcp_gateway.settings import rate_limit_from_env
+from bagmcp_lab.settings import ANY_BASE_URL, LabSettings
 from bagmcp_shared.settings import (
     DEFAULT_OPEN_BAGS,
     LOOPBACK_HOSTS,
@@ -31,6 +32,7 @@ class EmbeddedSettings:
     allowed_hosts: tuple[str, ...] = ()
     rate_limit: Limit | None = None
     open_bags: OpenBagLimits = DEFAULT_OPEN_BAGS
+    lab: LabSettings = field(default_factory=LabSettings)
 
     @classmethod
     def from_env(cls, folder: Path, data_dir: Path | None, env: Env | None = None) -> EmbeddedSettings:
@@ -44,6 +46,7 @@ class EmbeddedSettings:
             allowed_hosts=env.items("BAGMCP_ALLOWED_HOSTS"),
             rate_limit=rate_limit_from_env(env, default_per_s=0.0),
             open_bags=OpenBagLimits.from_env(env),
+            lab=LabSettings.from_env(env, base_urls=(ANY_BASE_URL,)),  # the machine's owner may name any server
         )
 
     def http(self, host: str, port: int, *, allowed_hosts: Sequence[str] = ()) -> HttpSettings:

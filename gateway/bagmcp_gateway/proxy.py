@@ -1,10 +1,13 @@
 """The REST front: /api/v1/<segment>/... forwarded to the service configured for that segment,
-streamed both ways, the service credential swapped in for the caller's token."""
+streamed both ways, the service credential swapped in for the caller's token.
+
+A segment in ``caller_segments`` (the Lab) also gets the caller's own bearer token in ``x-bagmcp-caller``: that
+service acts for the caller on this gateway's /mcp, where the caller's token and profile are checked again."""
 
 from __future__ import annotations
 
 import re
-from collections.abc import AsyncIterator, Mapping
+from collections.abc import AsyncIterator, Collection, Mapping
 
 import httpx
 from fastapi import APIRouter, Request
@@ -12,6 +15,7 @@ from fastapi.responses import Response, StreamingResponse
 
 from bagmcp_kit.http_errors import error_response
 
+CALLER_HEADER = "x-bagmcp-caller"
 _HOP_HEADERS = {
     "host",
     "authorization",
@@ -23,6 +27,7 @@ _HOP_HEADERS = {
     "proxy-authorization",
     "content-length",
     "origin",  # the gateway checked it; the service behind answers to the gateway, not to the browser
+    CALLER_HEADER,  # set only by the gateway, never passed on from a client
 }
 # The only paths the gateway forwards: a configured segment, then at most two plain segments that start
 # with a letter or digit and hold no '/'. Anything else (e.g. an encoded "../mcp") is refused, so the
@@ -36,7 +41,9 @@ def route_of(path: str, routes: Mapping[str, str]) -> str | None:
     return routes.get(match.group(1)) if match else None
 
 
-def build_proxy(routes: Mapping[str, str], service_token: str | None) -> APIRouter:
+def build_proxy(
+    routes: Mapping[str, str], service_token: str | None, *, caller_segments: Collection[str] = ()
+) -> APIRouter:
     router = APIRouter()
     client = httpx.AsyncClient(timeout=httpx.Timeout(30.0, read=3600.0, write=3600.0))
 
@@ -48,6 +55,8 @@ def build_proxy(routes: Mapping[str, str], service_token: str | None) -> APIRout
         headers = {k: v for k, v in request.headers.items() if k.lower() not in _HOP_HEADERS}
         if service_token:
             headers["authorization"] = f"Bearer {service_token}"
+        if path.split("/")[0] in caller_segments and "authorization" in request.headers:
+            headers[CALLER_HEADER] = request.headers["authorization"]
         upstream_request = client.build_request(
             request.method,
             f"{base}/api/v1/{path}",

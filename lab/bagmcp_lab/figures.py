@@ -3,6 +3,7 @@ each)."""
 
 from __future__ import annotations
 
+import io
 from collections.abc import Sequence
 from pathlib import Path
 
@@ -15,9 +16,10 @@ from bagmcp_lab.results import RunRecord
 
 LATENCY_FIGURE = "latency.png"
 CALLS_FIGURE = "tool_calls.png"
+FIGURES = (LATENCY_FIGURE, CALLS_FIGURE)
 
 
-def _box(path: Path, labels: list[str], values: list[list[float]], *, title: str, unit: str) -> None:
+def _box(labels: list[str], values: list[list[float]], *, title: str, unit: str) -> bytes:
     figure, axes = plt.subplots(figsize=(max(4.0, 1.4 * len(labels) + 2), 3.6), dpi=100)
     try:
         axes.boxplot(values, tick_labels=labels, showmeans=True)
@@ -26,18 +28,28 @@ def _box(path: Path, labels: list[str], values: list[list[float]], *, title: str
         axes.grid(axis="y", alpha=0.3)
         plt.setp(axes.get_xticklabels(), rotation=20, ha="right")
         figure.tight_layout()
-        figure.savefig(path, format="png")
+        buffer = io.BytesIO()
+        figure.savefig(buffer, format="png")
+        return buffer.getvalue()
     finally:
         plt.close(figure)
 
 
-def draw_figures(out: Path, labels: Sequence[str], records: Sequence[RunRecord]) -> list[str]:
-    """Write the figures into ``out``; ``labels[i]`` is the model column of ``records[i]``."""
+def figure_png(name: str, labels: Sequence[str], records: Sequence[RunRecord]) -> bytes:
+    """One figure (``LATENCY_FIGURE`` or ``CALLS_FIGURE``) as PNG; ``labels[i]`` is the model of ``records[i]``."""
     models = list(dict.fromkeys(labels))
-    if not models:
+    pairs = list(zip(records, labels, strict=True))
+    if name == LATENCY_FIGURE:
+        latency = [[r.latency_s for r, m in pairs if m == model] for model in models]
+        return _box(models, latency, title="Response time per model", unit="seconds per task")
+    calls = [[float(r.n_tool_calls) for r, m in pairs if m == model] for model in models]
+    return _box(models, calls, title="Tool calls per model", unit="tool calls per task")
+
+
+def draw_figures(out: Path, labels: Sequence[str], records: Sequence[RunRecord]) -> list[str]:
+    """Write the figures into ``out``; their file names."""
+    if not records:
         return []
-    latency = [[r.latency_s for r, m in zip(records, labels, strict=True) if m == model] for model in models]
-    calls = [[float(r.n_tool_calls) for r, m in zip(records, labels, strict=True) if m == model] for model in models]
-    _box(out / LATENCY_FIGURE, models, latency, title="Response time per model", unit="seconds per task")
-    _box(out / CALLS_FIGURE, models, calls, title="Tool calls per model", unit="tool calls per task")
-    return [LATENCY_FIGURE, CALLS_FIGURE]
+    for name in FIGURES:
+        (out / name).write_bytes(figure_png(name, labels, records))
+    return list(FIGURES)
