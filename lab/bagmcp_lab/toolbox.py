@@ -88,14 +88,30 @@ async def open_toolbox(
     """A session with the MCP server at ``url`` (``transport``: an in-process app instead of a socket)."""
     headers = {"Authorization": f"Bearer {token}"} if token else {}
     http = httpx2.AsyncClient(headers=headers, timeout=httpx2.Timeout(30, read=timeout_s), transport=transport)
-    async with AsyncExitStack() as stack:
-        try:
-            await stack.enter_async_context(http)
-            client = await stack.enter_async_context(Client(streamable_http_client(url, http_client=http), cache=None))
-            box = ToolBox(client, list((await client.list_tools()).tools))
-        except Exception as err:  # the SDK raises connection and 401 failures as exception groups
-            raise LabError(f"cannot use the MCP server at {url} ({_first(err)}); check the URL and the token") from None
-        yield box
+    try:
+        async with AsyncExitStack() as stack:
+            try:
+                await stack.enter_async_context(http)
+                session = Client(streamable_http_client(url, http_client=http), cache=None)
+                client = await stack.enter_async_context(session)
+                box = ToolBox(client, list((await client.list_tools()).tools))
+            except Exception as err:  # the SDK raises connection and 401 failures as exception groups
+                message = f"cannot use the MCP server at {url} ({_first(err)}); check the URL and the token"
+                raise LabError(message) from None
+            yield box
+    except BaseExceptionGroup as group:  # the client's task group wraps what the body raised: unwrap ours
+        mine = _first_lab_error(group)
+        if mine is None:
+            raise
+        raise mine from None
+
+
+def _first_lab_error(group: BaseExceptionGroup[BaseException]) -> LabError | None:
+    for err in group.exceptions:
+        found = _first_lab_error(err) if isinstance(err, BaseExceptionGroup) else err
+        if isinstance(found, LabError):
+            return found
+    return None
 
 
 def _first(err: BaseException) -> str:

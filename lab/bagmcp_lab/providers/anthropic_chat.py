@@ -11,7 +11,7 @@ import anthropic
 from mcp.types import Tool
 
 from bagmcp_lab.errors import ProviderError
-from bagmcp_lab.providers.conversation import SYSTEM_PROMPT, ModelReply, ProposedCall
+from bagmcp_lab.providers.conversation import SYSTEM_PROMPT, ModelReply, ProposedCall, refusal
 from bagmcp_lab.toolbox import ToolAnswer
 
 MAX_OUTPUT_TOKENS = 4096
@@ -47,7 +47,7 @@ class AnthropicConversation:
                 tools=self.tools,  # type: ignore[arg-type]
             )
         except anthropic.APIStatusError as err:
-            raise ProviderError(f"Anthropic answered {err.status_code}: {err.message}") from None
+            raise ProviderError(f"Anthropic answered {err.status_code}: {refusal(err.body, err.message)}") from None
         except anthropic.APIError as err:
             raise ProviderError(f"cannot reach Anthropic ({err.message}); check --base-url and the network") from None
         blocks = [block.model_dump(mode="json", exclude_none=True) for block in response.content]

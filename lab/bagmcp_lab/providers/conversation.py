@@ -52,3 +52,11 @@ def parse_arguments(raw: str | dict[str, Any] | None) -> dict[str, Any] | None:
     except ValueError:
         return None
     return value if isinstance(value, dict) else None
+
+
+def refusal(body: object, fallback: str) -> str:
+    """The message of a provider's error body (``{"error": {"message": ...}}``, or the inner object the OpenAI
+    SDK keeps), else ``fallback``."""
+    error = body.get("error", body) if isinstance(body, dict) else None
+    message = error.get("message") if isinstance(error, dict) else None
+    return str(message) if message else fallback

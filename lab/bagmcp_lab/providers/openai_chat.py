@@ -12,7 +12,7 @@ import openai
 from mcp.types import Tool
 
 from bagmcp_lab.errors import ProviderError
-from bagmcp_lab.providers.conversation import SYSTEM_PROMPT, ModelReply, ProposedCall, parse_arguments
+from bagmcp_lab.providers.conversation import SYSTEM_PROMPT, ModelReply, ProposedCall, parse_arguments, refusal
 from bagmcp_lab.toolbox import ToolAnswer
 
 
@@ -52,7 +52,8 @@ class OpenAIConversation:
                 tools=self.tools,  # type: ignore[arg-type]
             )
         except openai.APIStatusError as err:
-            raise ProviderError(f"the model server answered {err.status_code}: {err.message}") from None
+            said = refusal(err.body, err.message)
+            raise ProviderError(f"the model server answered {err.status_code}: {said}") from None
         except openai.APIError as err:
             raise ProviderError(f"cannot reach the model server ({err.message}); check --base-url") from None
         if not response.choices:
