@@ -6,7 +6,7 @@ BAGS   ?= ../shared/data/bags
 STAMP  := $(VENV)/.installed-stamp
 PACKAGES := shared/pyproject.toml kit/pyproject.toml gateway/pyproject.toml services/bag_store/pyproject.toml services/analysis/pyproject.toml services/plotting/pyproject.toml lab/pyproject.toml cli/pyproject.toml
 
-.PHONY: install run stack test lint typecheck pytest bench bench-quick docs-images lock clean
+.PHONY: install run stack test lint typecheck pytest browser bench bench-quick docs-images lock clean
 
 $(STAMP): requirements.lock $(PACKAGES)
 	test -x $(PY) || $(PYTHON) -m venv $(VENV)
@@ -14,7 +14,20 @@ $(STAMP): requirements.lock $(PACKAGES)
 	$(PY) -m pip install --quiet --disable-pip-version-check -r requirements.lock
 	touch $(STAMP)
 
-install: $(STAMP)  ## create .venv with pinned dependencies and the bagmcp command
+NODE_STAMP := node_modules/.package-lock.json
+CHROMIUM ?= /usr/bin/chromium
+
+# The web console's tools from npm (package-lock.json records versions and hashes, no addresses): uPlot,
+# whose dist files are vendored in kit/bagmcp_kit/web/static/vendor, and axe-core for the browser tests.
+$(NODE_STAMP): package.json package-lock.json
+	command -v npm >/dev/null || (apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq npm)
+	npm ci --no-audit --no-fund --loglevel=error
+
+install: $(STAMP) $(NODE_STAMP)  ## create .venv with pinned dependencies and the bagmcp command (and node_modules)
+
+browser:  ## Debian's Chromium for the browser tests (apt-get install when missing; never a browser download)
+	@test -x $(CHROMIUM) || (apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq chromium)
+	@$(CHROMIUM) --version 2>/dev/null | head -1
 
 HOST ?= 127.0.0.1
 PORT ?= 8000
@@ -32,13 +45,13 @@ lint: install
 typecheck: install
 	$(VENV)/bin/mypy
 
-pytest: install
+pytest: install browser
 	$(PY) -m pytest $(PYTEST_ARGS)
 
 unit: install  ## the tests that start no server, on two processes (pytest-xdist): about 25 s
 	$(PY) -m pytest -m 'not integration' -n 2 $(PYTEST_ARGS)
 
-test: lint typecheck pytest  ## everything CI checks
+test: lint typecheck browser pytest  ## everything CI checks (the browser tests included)
 
 bench: install  ## on demand, not in CI: every tool as MCP calls (embedded, stack) on ~2 GB bags; writes BENCHMARKS.md
 	$(PY) -m bench $(BENCH_ARGS)
@@ -53,4 +66,4 @@ lock:  ## re-pin requirements.lock from requirements.in (needs uv in .venv)
 	$(VENV)/bin/uv pip compile --quiet --no-header --python-version 3.11 requirements.in -o requirements.lock
 
 clean:
-	rm -rf $(VENV) .pytest_cache .mypy_cache .ruff_cache
+	rm -rf $(VENV) node_modules .pytest_cache .mypy_cache .ruff_cache

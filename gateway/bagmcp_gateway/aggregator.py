@@ -18,6 +18,7 @@ from typing import Any
 import mcp.types as types
 from mcp import MCPError
 from mcp.server import Server, ServerRequestContext
+from mcp.server.apps import client_supports_apps
 from mcp.server.auth.middleware.auth_context import get_access_token
 from mcp.server.context import CallNext, HandlerResult
 from mcp.server.subscriptions import InMemorySubscriptionBus, ListenHandler, SubscriptionBus
@@ -30,6 +31,7 @@ from bagmcp_gateway.connections import Connections
 from bagmcp_gateway.gateway import Gateway as Gateway  # re-exported: app.py builds one
 from bagmcp_gateway.reads import list_resources, list_templates, read_resource
 from bagmcp_gateway.upstreams import GatewayConfigError, Upstream
+from bagmcp_kit.web.viewers import without_viewer
 
 
 def _instructions_middleware(gateway: Gateway, configured: str | None) -> Any:
@@ -101,7 +103,10 @@ def gateway_server(
             tools = await gateway.tools()
         except GatewayConfigError as err:
             raise MCPError(types.INTERNAL_ERROR, f"gateway configuration error: {err}") from err
-        return types.ListToolsResult(tools=gateway.policy.shown(tools, get_access_token()))
+        shown = gateway.policy.shown(tools, get_access_token())
+        if not client_supports_apps(ctx):  # a client without MCP Apps gets the listing it always had
+            shown = [without_viewer(t) for t in shown]
+        return types.ListToolsResult(tools=shown)
 
     async def on_call_tool(ctx: ServerRequestContext[Any], params: types.CallToolRequestParams) -> WireResult:
         """Callers of older protocol versions (the SDK shapes the answer for theirs)."""

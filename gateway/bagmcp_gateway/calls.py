@@ -11,6 +11,7 @@ from typing import Any
 
 import anyio
 from mcp.server import ServerRequestContext
+from mcp.server.apps import client_supports_apps
 from mcp.server.auth.middleware.auth_context import get_access_token
 from mcp.server.auth.provider import AccessToken
 from mcp.shared.inbound import mcp_param_headers
@@ -22,6 +23,7 @@ from bagmcp_gateway.gateway import Gateway, who
 from bagmcp_gateway.ratelimit import retry_after_s
 from bagmcp_gateway.resource_routes import with_exposed_links
 from bagmcp_kit.identity import owner_meta
+from bagmcp_kit.web.viewers import without_view_data
 
 log = logging.getLogger(__name__)
 
@@ -95,6 +97,8 @@ async def _checked_call(
             f"the {upstream.name} service is unavailable right now ({type(err).__name__}); try again shortly"
         )
     record.outcome = "error" if is_error(result) else "ok"
+    if not client_supports_apps(ctx):  # the data of an MCP Apps view is only for clients that draw it
+        result = without_view_data(result)
     return cap_answer(with_exposed_links(result, upstream), max_chars=gateway.max_answer_chars)
 
 

@@ -143,7 +143,7 @@ class ToolCatalog:
                         f"give one of them a prefix in BAGMCP_UPSTREAMS (name=url@prefix)"
                     )
                     continue
-                exposed = tool.model_copy(update={"name": name})
+                exposed = upstream.exposed_tool(tool)
                 routes[name] = ToolRoute(exposed, upstream, tool.name, x_mcp_header_map(tool.input_schema))
                 self.known[name] = upstream
                 tools.append(exposed)

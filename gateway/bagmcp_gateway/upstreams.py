@@ -8,6 +8,7 @@ from contextlib import asynccontextmanager
 from dataclasses import dataclass
 
 import httpx2
+import mcp.types as types
 from mcp import Client
 from mcp.client.streamable_http import streamable_http_client
 from mcp.server.mcpserver import MCPServer
@@ -15,6 +16,7 @@ from mcp.server.mcpserver import MCPServer
 from bagmcp_shared.errors import BagmcpError
 
 _UPSTREAM_NAME = re.compile(r"^[a-z][a-z0-9-]*$")
+UI_SCHEME = "ui://"
 
 
 class GatewayConfigError(BagmcpError):
@@ -47,14 +49,29 @@ class Upstream:
         return f"{self.prefix}__{tool}" if self.prefix else tool
 
     def exposed_uri(self, uri: str) -> str:
-        return f"{self.prefix}+{uri}" if self.prefix else uri
+        """``prefix+uri``; an MCP Apps viewer keeps its scheme (hosts render only ``ui://``): ``ui://prefix.rest``."""
+        if not self.prefix:
+            return uri
+        if uri.startswith(UI_SCHEME):
+            return f"{UI_SCHEME}{self.prefix}.{uri[len(UI_SCHEME) :]}"
+        return f"{self.prefix}+{uri}"
 
     def original_uri(self, exposed: str) -> str | None:
         """The URI this upstream knows for ``exposed``, or None when ``exposed`` is not one of its own."""
         if not self.prefix:
             return exposed
-        head = f"{self.prefix}+"
-        return exposed[len(head) :] if exposed.startswith(head) else None
+        for head, restored in ((f"{UI_SCHEME}{self.prefix}.", UI_SCHEME), (f"{self.prefix}+", "")):
+            if exposed.startswith(head):
+                return restored + exposed[len(head) :]
+        return None
+
+    def exposed_tool(self, tool: types.Tool) -> types.Tool:
+        """``tool`` under its exposed name, its Apps viewer (``_meta.ui.resourceUri``) under its exposed URI."""
+        update: dict[str, object] = {"name": self.exposed(tool.name)}
+        ui = tool.meta.get("ui") if tool.meta else None
+        if self.prefix and isinstance(ui, dict) and isinstance(uri := ui.get("resourceUri"), str):
+            update["meta"] = {**(tool.meta or {}), "ui": {**ui, "resourceUri": self.exposed_uri(uri)}}
+        return tool.model_copy(update=update)
 
     @asynccontextmanager
     async def client(self, *, listening: bool = False) -> AsyncIterator[Client]:

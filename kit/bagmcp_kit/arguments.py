@@ -56,6 +56,7 @@ class ToolSpec:
 
     fn: Callable[..., object]
     annotations: ToolAnnotations
+    view: bool = False  # drawn by the service's MCP Apps viewer
 
 
 def _argument_names(fn: Callable[..., object]) -> frozenset[str]:
@@ -63,12 +64,14 @@ def _argument_names(fn: Callable[..., object]) -> frozenset[str]:
     return frozenset(n for n in inspect.signature(fn).parameters if hints.get(n) is not Context)
 
 
-def register(server: MCPServer, specs: Iterable[ToolSpec]) -> None:
-    """Add the tools, and refuse calls that pass arguments a tool does not have (naming the valid ones)."""
+def register(server: MCPServer, specs: Iterable[ToolSpec], *, viewer_meta: dict[str, Any] | None = None) -> None:
+    """Add the tools (those with a view carrying ``viewer_meta``), and refuse calls that pass arguments a tool
+    does not have (naming the valid ones)."""
     known: dict[str, frozenset[str]] = {}
     for spec in specs:
         description = " ".join((spec.fn.__doc__ or "").split())
-        server.add_tool(spec.fn, description=description, annotations=spec.annotations)
+        meta = viewer_meta if spec.view else None
+        server.add_tool(spec.fn, description=description, annotations=spec.annotations, meta=meta)
         known[spec.fn.__name__] = _argument_names(spec.fn)
 
     async def unknown_arguments(ctx: ServerRequestContext[Any, Any], call_next: CallNext) -> HandlerResult:

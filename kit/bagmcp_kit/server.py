@@ -12,6 +12,7 @@ from pydantic import AnyHttpUrl
 from bagmcp_kit.arguments import CONVENTIONS, register
 from bagmcp_kit.auth import SERVICE_SCOPE, ServiceTokenVerifier
 from bagmcp_kit.toolsets import tools_of
+from bagmcp_kit.web.viewers import add_viewer, ui_meta
 from bagmcp_shared.settings import ServiceSettings
 
 
@@ -36,7 +37,8 @@ def new_server(
     guard: Guard | None = None,
 ) -> MCPServer:
     """An MCP server with the marked tools of ``tools`` (objects, in order), whose instructions state
-    what it is for and the shared conventions once.
+    what it is for and the shared conventions once. Tools marked with a view point at the service's MCP
+    Apps viewer, ``ui://<name without "bagmcp-">/viewer.html``, served here as a resource.
 
     Without a ``guard`` the server is for in-process use (embedded mode, tests)."""
     instructions = f"{purpose} {CONVENTIONS}"
@@ -52,5 +54,7 @@ def new_server(
         server = MCPServer(
             name, instructions=instructions, token_verifier=ServiceTokenVerifier(guard.service_token), auth=auth
         )
-    register(server, tools_of(*tools))
+    specs = tools_of(*tools)
+    viewer = ui_meta(add_viewer(server, name.removeprefix("bagmcp-"))) if any(s.view for s in specs) else None
+    register(server, specs, viewer_meta=viewer)
     return server

@@ -14,13 +14,16 @@ from bagmcp_shared.access import BagAccess
 
 F = TypeVar("F", bound=Callable[..., object])
 _MARK = "__bagmcp_tool__"
+_VIEW = "__bagmcp_view__"
 
 
-def tool(annotations: ToolAnnotations) -> Callable[[F], F]:
-    """Mark a method as a tool with these annotations (its docstring is the description)."""
+def tool(annotations: ToolAnnotations, *, view: bool = False) -> Callable[[F], F]:
+    """Mark a method as a tool with these annotations (its docstring is the description); ``view``: its
+    answers carry view data, and it points MCP Apps clients at the service's viewer (kit/web/viewers.py)."""
 
     def mark(fn: F) -> F:
         setattr(fn, _MARK, annotations)
+        setattr(fn, _VIEW, view)
         return fn
 
     return mark
@@ -33,7 +36,7 @@ def tools_of(*groups: object) -> list[ToolSpec]:
         for cls in reversed(type(group).__mro__):
             for name, member in vars(cls).items():
                 if isinstance(annotations := getattr(member, _MARK, None), ToolAnnotations):
-                    specs.append(ToolSpec(getattr(group, name), annotations))
+                    specs.append(ToolSpec(getattr(group, name), annotations, view=getattr(member, _VIEW, False)))
     return specs
 
 

@@ -89,7 +89,7 @@ class Plotter:
         def make(key: str) -> PlotReport:
             with self._access.open(params.bag) as ob:
                 lo, hi = ob.window(params.start, params.end)
-                x, y, notes = self._xy_series(ob, params, lo, hi, progress)
+                x, y, notes = self.xy_series(ob, params, lo, hi, progress)
                 trajectory = params.x is None
                 what = f"trajectory of {x.topic}" if trajectory else f"{y.name} against {x.name}"
                 title = f"{what} ({_window_title(ob, lo, hi)})"
@@ -117,7 +117,7 @@ class Plotter:
 
         return self._plot(kinds.PLOT_2D, params, [params.bag], make)
 
-    def _xy_series(
+    def xy_series(
         self, ob: OpenBag, params: kinds.XYParams, lo: int, hi: int, progress: Progress
     ) -> tuple[PathSeries, PathSeries, list[str]]:
         if params.x is not None and params.y is not None:

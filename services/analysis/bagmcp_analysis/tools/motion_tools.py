@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from typing import Annotated
+from typing import Annotated, Any
 
 from mcp.server.mcpserver import Context
 from mcp.types import CallToolResult
@@ -15,10 +15,14 @@ from bagmcp_analysis.queries.window import window_is_small
 from bagmcp_analysis.reports.lidar import LidarReport
 from bagmcp_analysis.reports.trajectory import TrajectoryReport
 from bagmcp_analysis.reports.window import WindowReport
+from bagmcp_analysis.views import AnalysisViews
 from bagmcp_kit.answers import tool_errors
 from bagmcp_kit.arguments import READ_ONLY, BagRef, TimeArg, params_of
 from bagmcp_kit.jobs import LongAnswer
+from bagmcp_kit.longwork import LongWork
 from bagmcp_kit.toolsets import BagTools, tool
+from bagmcp_kit.web.view_data import add_view
+from bagmcp_shared.access import BagAccess
 
 OptionalTopic = Annotated[str | None, Field(description="default: the obvious one")]
 
@@ -43,8 +47,16 @@ def _lidar_summary(r: LidarReport) -> str:
     return f"{r.scans} scans of {r.topic}; closest {r.closest.range_m if r.closest else float('nan'):.3f} m{seen}"
 
 
+def _result(answer: CallToolResult) -> dict[str, Any]:
+    return dict((answer.structured_content or {}).get("result") or {})
+
+
 class MotionTools(BagTools):
-    @tool(READ_ONLY)
+    def __init__(self, access: BagAccess, work: LongWork) -> None:
+        super().__init__(access, work)
+        self._views = AnalysisViews(access)
+
+    @tool(READ_ONLY, view=True)
     async def analyze_trajectory(
         self,
         ctx: Context,
@@ -57,11 +69,12 @@ class MotionTools(BagTools):
         moving vs stopped time, stops, extents, start/end pose, corner waypoints. Example: start=20, end=75."""
         with tool_errors():
             params = params_of(TrajectoryParams, bag=bag, topic=topic, start=start, end=end)
-        return await self._work.run(
+        answer = await self._work.run(
             ctx, TRAJECTORY, params, _trajectory_summary, small=lambda p: trajectory_is_small(self._access, p)
         )
+        return await add_view(answer, lambda: self._views.trajectory(params, _result(answer)))
 
-    @tool(READ_ONLY)
+    @tool(READ_ONLY, view=True)
     async def analyze_lidar_scan(
         self,
         ctx: Context,
@@ -77,7 +90,10 @@ class MotionTools(BagTools):
         something came closer. Example: within=0.5."""
         with tool_errors():
             params = params_of(LidarParams, bag=bag, topic=topic, time=time, start=start, end=end, within_m=within)
-        return await self._work.run(ctx, LIDAR, params, _lidar_summary, small=lambda p: lidar_is_small(self._access, p))
+        answer = await self._work.run(
+            ctx, LIDAR, params, _lidar_summary, small=lambda p: lidar_is_small(self._access, p)
+        )
+        return await add_view(answer, lambda: self._views.lidar(params, _result(answer)))
 
     @tool(READ_ONLY)
     async def summarize_window(

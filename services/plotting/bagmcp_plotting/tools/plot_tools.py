@@ -19,6 +19,7 @@ from bagmcp_kit.arguments import READ_ONLY, BagRef, TimeArg, params_of
 from bagmcp_kit.jobs import LongAnswer
 from bagmcp_kit.longwork import LongWork
 from bagmcp_kit.toolsets import BagTools, tool
+from bagmcp_kit.web.view_data import View, add_view
 from bagmcp_plotting.artifacts import ARTIFACT_URI, Artifacts
 from bagmcp_plotting.data import path_is_indexed
 from bagmcp_plotting.job_kinds import (
@@ -33,8 +34,9 @@ from bagmcp_plotting.job_kinds import (
     TimeseriesParams,
     XYParams,
 )
-from bagmcp_plotting.plots import plot_id
+from bagmcp_plotting.plots import Plotter, plot_id
 from bagmcp_plotting.reports import PlotReport
+from bagmcp_plotting.views import PlotViews
 from bagmcp_shared.access import BagAccess
 from bagmcp_shared.jobs import JobKind
 from bagmcp_shared.topics import choose_pose_topic
@@ -60,6 +62,14 @@ class PlotTools(BagTools):
     def __init__(self, access: BagAccess, work: LongWork, artifacts: Artifacts) -> None:
         super().__init__(access, work)
         self._artifacts = artifacts
+        views = PlotViews(access, Plotter(access, artifacts))
+        self._views: dict[str, Callable[[Any, str], View]] = {
+            PLOT_TIMESERIES.name: views.timeseries,
+            PLOT_2D.name: views.xy,
+            PLOT_SCAN.name: views.scan,
+            PLOT_HISTOGRAM.name: views.histogram,
+            COMPARE_RUNS.name: views.compare,
+        }
 
     def _attach(self, report: PlotReport) -> list[ContentBlock]:
         png = self._artifacts.png(report.artifact.id)
@@ -97,9 +107,14 @@ class PlotTools(BagTools):
         )
         if answer.structured_content is not None and "job" in answer.structured_content:
             answer.content.append(TextContent(type="text", text=_how_to_see(tool)))
-        return answer
+        return await add_view(answer, lambda: self._view(kind, params, answer))
 
-    @tool(READ_ONLY)
+    def _view(self, kind: JobKind[Any, PlotReport], params: BaseModel, answer: CallToolResult) -> View:
+        """What the MCP Apps viewer and the web console draw for this plot (views.py)."""
+        result = (answer.structured_content or {}).get("result") or {}
+        return self._views[kind.name](params, str(result.get("title", "")))
+
+    @tool(READ_ONLY, view=True)
     async def plot_timeseries(
         self,
         ctx: Context,
@@ -118,7 +133,7 @@ class PlotTools(BagTools):
             ctx, "plot_timeseries", PLOT_TIMESERIES, params, [bag], lambda p: self._indexed(p.bag, p.paths)
         )
 
-    @tool(READ_ONLY)
+    @tool(READ_ONLY, view=True)
     async def plot_2d(
         self,
         ctx: Context,
@@ -144,7 +159,7 @@ class PlotTools(BagTools):
             topic, _, _ = choose_pose_topic(ob, params.topic)
             return ob.indexed(topic) or ob.short(topic)
 
-    @tool(READ_ONLY)
+    @tool(READ_ONLY, view=True)
     async def plot_lidar_scan(
         self,
         ctx: Context,
@@ -159,7 +174,7 @@ class PlotTools(BagTools):
             params = params_of(ScanPlotParams, bag=bag, topic=topic, time=time, within_m=within)
         return await self._plot(ctx, "plot_lidar_scan", PLOT_SCAN, params, [bag], lambda p: True)
 
-    @tool(READ_ONLY)
+    @tool(READ_ONLY, view=True)
     async def plot_histogram(
         self,
         ctx: Context,
@@ -177,7 +192,7 @@ class PlotTools(BagTools):
             ctx, "plot_histogram", PLOT_HISTOGRAM, params, [bag], lambda p: self._indexed(p.bag, [p.path])
         )
 
-    @tool(READ_ONLY)
+    @tool(READ_ONLY, view=True)
     async def compare_runs(
         self,
         ctx: Context,

@@ -1,0 +1,65 @@
+"""The data an MCP Apps viewer (and the web console) draws, added to a finished tool answer.
+
+A view is a plain JSON dict ``{"kind": ..., ...}`` in the result's ``_meta["bagmcp/view"]``. It is built in
+a worker thread after the answer (a job still running gets none) and bounded: series are thinned by the
+caller to a few thousand points, scans to at most ``MAX_RANGES`` ranges, so a view stays under ~300 KB."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Iterable
+from typing import Any
+
+import anyio
+import numpy as np
+import numpy.typing as npt
+from mcp.types import CallToolResult
+
+from bagmcp_kit.web.viewers import with_view
+
+View = dict[str, Any]
+MAX_RANGES = 1440
+
+
+def numbers(values: Iterable[float] | npt.NDArray[np.float64]) -> list[float | None]:
+    """JSON numbers; NaN and infinities (not JSON) become null, which the views leave out."""
+    return [float(v) if math.isfinite(v) else None for v in np.asarray(values, dtype=np.float64).tolist()]
+
+
+def thin_indices(count: int, *, max_points: int) -> npt.NDArray[np.intp]:
+    """At most ``max_points`` evenly spaced indices of ``count`` points, the first and last included."""
+    if count <= max_points:
+        return np.arange(count, dtype=np.intp)
+    return np.unique(np.linspace(0, count - 1, max_points).round().astype(np.intp))
+
+
+def finished(answer: CallToolResult) -> bool:
+    content = answer.structured_content
+    return not answer.is_error and isinstance(content, dict) and content.get("result") is not None
+
+
+async def add_view(answer: CallToolResult, make: Callable[[], View | None]) -> CallToolResult:
+    """``answer`` with the view ``make`` builds (in a thread) when the work is done; unchanged otherwise."""
+    if not finished(answer):
+        return answer
+    view = await anyio.to_thread.run_sync(make)
+    if view is not None:
+        answer.meta = with_view(answer.meta, view)
+    return answer
+
+
+def scan_entry(message: Any, *, offset_s: float) -> View:
+    """One LaserScan for the polar view: ranges outside range_min..range_max become null; more than
+    ``MAX_RANGES`` rays keep every k-th (the angle step grows to match)."""
+    ranges = np.asarray(message.ranges, dtype=np.float64)
+    low, high = float(message.range_min), float(message.range_max)
+    valid = np.isfinite(ranges) & (ranges >= low) & (ranges <= high)
+    shown = np.where(valid, ranges, np.nan)
+    step = max(1, math.ceil(shown.size / MAX_RANGES))
+    return {
+        "t": round(offset_s, 6),
+        "angle_min": float(message.angle_min),
+        "angle_increment": float(message.angle_increment) * step,
+        "range_max": high,
+        "ranges": numbers(shown[::step]),
+    }
