@@ -19,6 +19,7 @@ from bagmcp_gateway.auth import rest_auth
 from bagmcp_gateway.catalog import ToolCatalog
 from bagmcp_gateway.connections import Connections
 from bagmcp_gateway.console import install_console
+from bagmcp_gateway.lab_routes import install_lab_page
 from bagmcp_gateway.events import RedisSubscriptionBus, channel_for
 from bagmcp_gateway.metrics import GatewayMetrics
 from bagmcp_gateway.ratelimit import MemoryRateLimiter, RateLimiter, RedisRateLimiter
@@ -155,5 +156,6 @@ def create_app(
         return Response(gateway.metrics.exposition(), media_type=gateway.metrics.content_type)
 
     install_console(app)
+    install_lab_page(app)
     app.mount("/", UniformAuthErrors(mcp_app))
     return app

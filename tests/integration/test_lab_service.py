@@ -65,7 +65,7 @@ def team(stack: Stack, model: ScriptedModel, tmp_path_factory: pytest.TempPathFa
         "BAGMCP_SERVICE_TOKEN": SERVICE_TOKEN,
         "BAGMCP_PORT": str(lab_port),
         "BAGMCP_LAB_GATEWAY_URL": f"http://127.0.0.1:{gateway_port}/mcp",
-        "BAGMCP_LAB_BASE_URLS": f"{model.openai_url},{model.anthropic_url}/",
+        "BAGMCP_LAB_BASE_URLS": model.anthropic_url,  # both wire formats: the scripted server only
     }
     urls = stack.service_urls
     routes = f"bags={urls['bag-store']},artifacts={urls['plotting']},lab=http://127.0.0.1:{lab_port}"
