@@ -16,10 +16,9 @@ from PIL import Image
 from tests.fixtures.bagfactory import BagKind
 from tests.fixtures.drive_bags import write_drive_bags
 from tests.fixtures.inprocess import copy_bags
-from tests.fixtures.lab_runs import KEY_VARIABLE, PAPER_TASK_IDS, by_task, lab_run, results
-from tests.fixtures.processes import BIN, http_ok, service
+from tests.fixtures.lab_runs import KEY_VARIABLE, PAPER_TASK_IDS, by_task, lab_run, results, served_folder
+from tests.fixtures.processes import BIN
 from tests.fixtures.scripted_model import ScriptedModel, scripted_model_server
-from tests.fixtures.servers import free_port
 
 NAMES = {"ros1": "drive", "ros2-sqlite3": "drive_db3", "ros2-mcap": "drive_mcap"}
 RESULT_FIELDS = {
@@ -33,13 +32,7 @@ def served(tmp_path_factory: pytest.TempPathFactory) -> Iterator[str]:
     """`bagmcp serve` over the drive bag in three formats; the MCP URL."""
     drive: dict[BagKind, Path] = write_drive_bags(tmp_path_factory.mktemp("drive"))
     folder = copy_bags(list(drive.values()), tmp_path_factory.mktemp("served") / "bags")
-    port = free_port()
-    command = [str(BIN / "bagmcp"), "serve", "--bags", str(folder), "--port", str(port)]
-    env = {"BAGMCP_DATA_DIR": str(tmp_path_factory.mktemp("data"))}
-    url = f"http://127.0.0.1:{port}"
-    with service(
-        "lab-serve", command, env=env, log_dir=tmp_path_factory.mktemp("logs"), ready=http_ok(f"{url}/readyz")
-    ):
+    with served_folder(folder, tmp_path_factory.mktemp("lab-serve"), name="lab-serve") as (url, _log):
         yield f"{url}/mcp"
 
 

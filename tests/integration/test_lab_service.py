@@ -17,10 +17,10 @@ import httpx
 import pytest
 
 from tests.fixtures.drive_bags import write_drive_bag
-from tests.fixtures.lab_runs import PAPER_TASK_IDS, by_task, lab_run, results
+from tests.fixtures.lab_runs import PAPER_TASK_IDS, by_task, lab_run, results, served_folder
 from tests.fixtures.processes import BIN, http_ok, service
 from tests.fixtures.scripted_model import ScriptedModel, scripted_model_server
-from tests.fixtures.servers import free_port, free_ports
+from tests.fixtures.servers import free_ports
 from tests.integration.stack import OTHER_TOKEN, SERVICE_TOKEN, TOKEN, Stack, new_token, run_gateway
 
 SERVE_TOKEN = "lab-serve-token"
@@ -46,13 +46,8 @@ def model() -> Iterator[ScriptedModel]:
 def embedded(tmp_path_factory: pytest.TempPathFactory) -> Iterator[LabServer]:
     folder = tmp_path_factory.mktemp("lab-bags")
     write_drive_bag("ros1", folder)
-    port, logs = free_port(), tmp_path_factory.mktemp("lab-logs")
-    command = [str(BIN / "bagmcp"), "serve", "--bags", str(folder), "--port", str(port), "--token", SERVE_TOKEN]
-    env = {"BAGMCP_DATA_DIR": str(tmp_path_factory.mktemp("data"))}
-    url = f"http://127.0.0.1:{port}"
-    with service("lab-embedded", command, env=env, log_dir=logs, ready=http_ok(f"{url}/readyz")):
-        _wait_ingested(url, SERVE_TOKEN, "drive")
-        yield LabServer(url, SERVE_TOKEN, logs / "lab-embedded.log", "drive")
+    with served_folder(folder, tmp_path_factory.mktemp("lab"), name="lab-embedded", token=SERVE_TOKEN) as (url, log):
+        yield LabServer(url, SERVE_TOKEN, log, "drive")
 
 
 @pytest.fixture(scope="module")
@@ -79,17 +74,6 @@ def team(stack: Stack, model: ScriptedModel, tmp_path_factory: pytest.TempPathFa
         yield LabServer(
             f"http://127.0.0.1:{gateway_port}", TOKEN, stack.logs / "lab.log", name, f"http://127.0.0.1:{lab_port}"
         )
-
-
-def _wait_ingested(url: str, token: str, name: str) -> None:
-    headers = {"Authorization": f"Bearer {token}"}
-    deadline = time.monotonic() + 120
-    while time.monotonic() < deadline:
-        bags = httpx.get(f"{url}/api/v1/bags", headers=headers, timeout=10).json()["bags"]
-        if any(b["name"] == name and b["status"] == "ready" for b in bags):
-            return
-        time.sleep(0.3)
-    raise TimeoutError(f"{name} was not ingested in time")
 
 
 def _model(model: ScriptedModel, provider: str = "openai", player: str = "capable") -> dict[str, Any]:

@@ -5,19 +5,16 @@ every URL, cookie, local storage and the server's log (it travels only in the bo
 from __future__ import annotations
 
 import json
-import time
 from collections.abc import Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
 
-import httpx
 import pytest
 from playwright.sync_api import Page, Request
 
 from tests.fixtures.drive_bags import write_drive_bag
-from tests.fixtures.processes import BIN, http_ok, service
+from tests.fixtures.lab_runs import served_folder
 from tests.fixtures.scripted_model import ScriptedModel, scripted_model_server
-from tests.fixtures.servers import free_port
 from tests.integration.browser.harness import Watched, axe_violations, screenshot
 
 pytestmark = [pytest.mark.integration, pytest.mark.browser]
@@ -55,17 +52,8 @@ def model() -> Iterator[ScriptedModel]:
 def served(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Served]:
     folder = tmp_path_factory.mktemp("lab-page-bags")
     write_drive_bag("ros1", folder)
-    port, logs = free_port(), tmp_path_factory.mktemp("lab-page-logs")
-    command = [str(BIN / "bagmcp"), "serve", "--bags", str(folder), "--port", str(port), "--token", TOKEN]
-    env = {"BAGMCP_DATA_DIR": str(tmp_path_factory.mktemp("data"))}
-    url = f"http://127.0.0.1:{port}"
-    with service("lab-page", command, env=env, log_dir=logs, ready=http_ok(f"{url}/readyz"), timeout_s=180):
-        deadline = time.monotonic() + 120
-        headers = {"Authorization": f"Bearer {TOKEN}"}
-        while httpx.get(f"{url}/api/v1/bags", headers=headers).json()["bags"][0]["status"] != "ready":
-            assert time.monotonic() < deadline, "the drive bag was not ingested in time"
-            time.sleep(0.3)
-        yield Served(url, logs / "lab-page.log")
+    with served_folder(folder, tmp_path_factory.mktemp("lab-page"), name="lab-page", token=TOKEN) as (url, log):
+        yield Served(url, log)
 
 
 def _choose_model(page: Page, served: Served, model: ScriptedModel) -> None:
