@@ -38,7 +38,7 @@ def test_a_bag_page_shows_each_view_with_the_bag_s_numbers(
     page.goto(f"{stack.url}/#/bag/{bag}")
     topics = page.locator("#panel-topics tbody tr")
     topics.first.wait_for()
-    script = "[...document.querySelectorAll('#panel-topics tbody tr')].map(r => [r.cells[0].innerText, +r.cells[2].innerText])"
+    script = "[...document.querySelectorAll('#panel-topics tbody tr')].map(r => [r.cells[0].innerText, +r.cells[2].innerText])"  # noqa: E501
     assert dict(page.evaluate(script)) == sc.COUNTS
     assert axe_violations(page) == []
     screenshot(page, "console-bag-topics")
@@ -49,7 +49,7 @@ def test_a_bag_page_shows_each_view_with_the_bag_s_numbers(
     page.select_option("#plot-field", "linear.x")
     page.click("#panel-plot button.primary")
     page.wait_for_function(
-        "() => BagViews.drawn.some(v => v.kind === 'timeseries' && v.names[0] === '/cmd_vel.linear.x')"
+        "() => (BagViews.drawn || []).some(v => v.kind === 'timeseries' && v.names[0] === '/cmd_vel.linear.x')"
     )
     series = _last(page, "timeseries")
     assert len(series["data"][0]) == sc.COUNTS[sc.CMD_TOPIC]
@@ -87,6 +87,7 @@ def test_a_bag_page_shows_each_view_with_the_bag_s_numbers(
     screenshot(page, "console-bag-tf")
 
     page.click("#tab-image")
+    page.select_option("#image-topic", sc.IMAGE_TOPIC)
     picture = page.locator("#image-out img")
     picture.wait_for()
     page.wait_for_function("img => img.complete && img.naturalWidth > 0", arg=picture.element_handle())

@@ -9,7 +9,8 @@
     const body = el("tbody");
     const caption = options && options.caption ? el("caption", {}, options.caption) : null;
     const headers = columns.map((c) => el("th", { scope: "col", class: c.numeric ? "bv-num" : null },
-      el("button", { type: "button", class: "bv-sort", onclick: () => sortBy(c.key) }, c.label)));
+      c.label ? el("button", { type: "button", class: "bv-sort", onclick: () => sortBy(c.key) }, c.label)
+        : el("span", { class: "bv-sr" }, "actions")));
     const node = el("table", { class: "bv-table" }, caption, el("thead", {}, el("tr", {}, headers)), body);
     container.appendChild(el("div", { class: "bv-table-wrap" }, node));
     function sortBy(key) {

@@ -150,10 +150,11 @@
         alt: topic.node.value + " at " + fmt.seconds(r.time ? r.time.offset_s : Number(time.value)) }) : null,
         el("p", { class: "muted" }, ns.api.resultText(answer)));
     }
-    const later = () => { when.textContent = fmt.seconds(Number(time.value)); clearTimeout(pending); pending = setTimeout(() => show().catch((e) => ns.replace(out, ns.shell.errorBox(e))), 250); };
+    const shown = () => show().catch((e) => ns.replace(out, ns.shell.errorBox(e)));
+    const later = () => { when.textContent = fmt.seconds(Number(time.value)); clearTimeout(pending); pending = setTimeout(shown, 250); };
     time.addEventListener("input", later);
     topic.node.addEventListener("change", later);
-    await show();
+    await shown();
   }
 
   ns.bagViews = { plot, trajectory, scan, logs, tf, image };

@@ -6,7 +6,7 @@
   const SCOPES = ["read", "upload", "delete", "admin"];
 
   function form(onCreated) {
-    const name = el("input", { id: "token-name", required: true, autocomplete: "off", pattern: "[A-Za-z0-9._-]+" });
+    const name = el("input", { id: "token-name", required: true, autocomplete: "off"});
     const profile = el("select", { id: "token-profile" }, el("option", { value: "" }, "every tool"), el("option", { value: "core" }, "core (small models)"), el("option", { value: "full" }, "full"));
     const expires = el("input", { id: "token-expires", placeholder: "e.g. 30d, 12h; empty: never", autocomplete: "off" });
     const scopes = SCOPES.map((s) => el("label", { for: "scope-" + s }, el("input", { type: "checkbox", id: "scope-" + s, value: s, checked: s === "read" }), " " + s));
