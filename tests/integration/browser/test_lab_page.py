@@ -5,6 +5,7 @@ every URL, cookie, local storage and the server's log (it travels only in the bo
 from __future__ import annotations
 
 import json
+import time
 from collections.abc import Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -93,15 +94,17 @@ def test_a_benchmark_run_fills_its_table_and_figures(served: Served, model: Scri
     page.click("#tab-bench")
     page.wait_for_selector("#bench-bag option[value=drive]", state="attached")
     page.click("#bench-start")
-    page.wait_for_function(
-        "document.getElementById('bench-status').textContent.startsWith('Finished')", timeout=180_000
-    )
+    page.locator("#bench-status", has_text="Finished").wait_for(timeout=180_000)
     assert page.inner_text("#bench-status") == "Finished (succeeded): 10 of 10 runs done, 10 succeeded"
     cells = page.locator("#bench-results tbody tr td:nth-child(3)").all_inner_texts()
     assert len(cells) == 10
     assert all(cell.startswith("✓ ") for cell in cells), cells
     assert cells[2] == "✓ analyze_trajectory"
-    page.wait_for_function("[...document.querySelectorAll('.lab-figure')].filter(i => i.naturalWidth > 0).length == 2")
+    loaded = "() => [...document.querySelectorAll('.lab-figure')].filter(i => i.complete && i.naturalWidth > 0).length"
+    deadline = time.monotonic() + 30
+    while page.evaluate(loaded) < 2:  # (wait_for_function evaluates strings, which the page's CSP forbids)
+        assert time.monotonic() < deadline, "the figures did not load"
+        page.wait_for_timeout(200)
     with page.expect_download() as download:
         page.click("#bench-download")
     runs = json.loads(Path(download.value.path()).read_text())
