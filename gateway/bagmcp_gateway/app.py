@@ -19,8 +19,8 @@ from bagmcp_gateway.auth import rest_auth
 from bagmcp_gateway.catalog import ToolCatalog
 from bagmcp_gateway.connections import Connections
 from bagmcp_gateway.console import install_console
-from bagmcp_gateway.lab_routes import install_lab_page
 from bagmcp_gateway.events import RedisSubscriptionBus, channel_for
+from bagmcp_gateway.lab_routes import install_lab_page
 from bagmcp_gateway.metrics import GatewayMetrics
 from bagmcp_gateway.ratelimit import MemoryRateLimiter, RateLimiter, RedisRateLimiter
 from bagmcp_gateway.settings import GatewaySettings

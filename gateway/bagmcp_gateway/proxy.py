@@ -41,6 +41,20 @@ def route_of(path: str, routes: Mapping[str, str]) -> str | None:
     return routes.get(match.group(1)) if match else None
 
 
+def forwarded_headers(
+    headers: Mapping[str, str], path: str, *, service_token: str | None, caller_segments: Collection[str]
+) -> dict[str, str]:
+    """What the service behind ``/api/v1/<path>`` is sent: the client's headers less the hop ones (its token and
+    any ``x-bagmcp-caller`` it made up), the service credential, and for ``caller_segments`` the caller's token."""
+    out = {k: v for k, v in headers.items() if k.lower() not in _HOP_HEADERS}
+    if service_token:
+        out["authorization"] = f"Bearer {service_token}"
+    caller = next((v for k, v in headers.items() if k.lower() == "authorization"), None)
+    if path.split("/")[0] in caller_segments and caller:
+        out[CALLER_HEADER] = caller
+    return out
+
+
 def build_proxy(
     routes: Mapping[str, str], service_token: str | None, *, caller_segments: Collection[str] = ()
 ) -> APIRouter:
@@ -52,11 +66,7 @@ def build_proxy(
         base = route_of(path, routes)
         if base is None:
             return error_response(404, "not_found", f"no such route /api/v1/{path}; see /docs")
-        headers = {k: v for k, v in request.headers.items() if k.lower() not in _HOP_HEADERS}
-        if service_token:
-            headers["authorization"] = f"Bearer {service_token}"
-        if path.split("/")[0] in caller_segments and "authorization" in request.headers:
-            headers[CALLER_HEADER] = request.headers["authorization"]
+        headers = forwarded_headers(request.headers, path, service_token=service_token, caller_segments=caller_segments)
         upstream_request = client.build_request(
             request.method,
             f"{base}/api/v1/{path}",
