@@ -35,6 +35,7 @@ class LabRun:
     tasks: list[dict[str, str]] = field(default_factory=list)  # id, title, prompt of each task asked
     skipped: dict[str, str] = field(default_factory=dict)
     error: str | None = None
+    cancelled: bool = False
     started_s: float = field(default_factory=time.time)
     finished_s: float | None = None
 
@@ -121,14 +122,13 @@ class RunRegistry:
             run.state = "succeeded"
         except LabError as err:
             run.state, run.error = "failed", str(err)
-        except asyncio.CancelledError:
-            run.state = "cancelled"
-            raise
-        except Exception as err:  # a bug: say so on the page rather than leave the run "running"
+        except BaseException as err:  # cancelled (whatever the MCP session made of it), or a bug: never "running"
             run.state, run.error = "failed", f"unexpected {type(err).__name__}; see the server log"
             raise
         finally:
             run.finished_s = time.time()
+            if run.cancelled:
+                run.state, run.error = "cancelled", None
 
     def get(self, owner: str, run_id: str) -> LabRun:
         run = self.runs.get(run_id)
@@ -138,6 +138,7 @@ class RunRegistry:
 
     def cancel(self, owner: str, run_id: str) -> LabRun:
         run = self.get(owner, run_id)
+        run.cancelled = run.state == "running"
         for task in self._tasks:
             if task.get_name() == run_id:
                 task.cancel()

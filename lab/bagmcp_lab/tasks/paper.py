@@ -64,9 +64,10 @@ async def plot_trajectory(box: ToolBox, probe: BagProbe) -> Task | str:
 async def passed_near(box: ToolBox, probe: BagProbe) -> Task | str:
     if (odom := probe.topic(ODOMETRY)) is None:
         return "the bag has no odometry topic"
-    sample = await box.reference("get_message_at_time", bag=probe.bag, topic=odom, time=probe.at(1 / 3))
-    position = sample["message"]["data"]["pose"]["pose"]["position"]
-    x, y = round(position["x"] + 0.2, 1), round(position["y"] + 0.2, 1)
+    path = await box.reference("analyze_trajectory", bag=probe.bag, topic=odom)  # a core tool, as search_messages
+    at = probe.at(1 / 3)
+    place = min(path["waypoints"] or [path["start_pose"]], key=lambda w: abs(w["time"]["offset_s"] - at))
+    x, y = round(place["x"] + 0.2, 1), round(place["y"] + 0.2, 1)
     near = await box.reference(
         "search_messages",
         bag=probe.bag,
