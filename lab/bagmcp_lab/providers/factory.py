@@ -1,4 +1,5 @@
-"""Which provider, model and key a run uses, and the conversation that gives."""
+"""Which provider, model and key a run uses, and the conversation that gives. The SDKs are imported by the
+first conversation of their kind (importing both takes seconds, which `bagmcp serve` need not wait for)."""
 
 from __future__ import annotations
 
@@ -9,9 +10,7 @@ from typing import Literal
 from mcp.types import Tool
 
 from bagmcp_lab.errors import KeyMissingError, LabError
-from bagmcp_lab.providers.anthropic_chat import anthropic_conversation
 from bagmcp_lab.providers.conversation import Conversation
-from bagmcp_lab.providers.openai_chat import openai_conversation
 
 ProviderName = Literal["anthropic", "openai"]
 PROVIDERS: dict[str, str] = {"anthropic": "ANTHROPIC_API_KEY", "openai": "OPENAI_API_KEY"}
@@ -55,10 +54,14 @@ def open_conversation(
 ) -> Conversation:
     """A conversation whose last ``history`` entry is the user's question."""
     if choice.provider == "anthropic":
+        from bagmcp_lab.providers.anthropic_chat import anthropic_conversation
+
         return anthropic_conversation(
             model=choice.model, api_key=choice.api_key, base_url=choice.base_url, tools=tools, history=history
         )
     if choice.provider == "openai":
+        from bagmcp_lab.providers.openai_chat import openai_conversation
+
         return openai_conversation(
             model=choice.model,
             api_key=choice.api_key,
