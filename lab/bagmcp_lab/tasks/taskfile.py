@@ -11,7 +11,7 @@ must state, either written out or taken from a tool's answer (so a reference is 
             tool: bag_info                        # the reference: this tool's answer ...
             arguments: {bag: "{bag}"}
             path: topics[name=/odom].count        # ... at this path
-            tolerance: 0
+            tolerance: 0                          # absolute (or relative: 0.02); default exact
           - {label: a word, words: [odom]}
 """
 
@@ -80,7 +80,7 @@ async def _fact(box: ToolBox, raw: dict[str, Any], bag: str) -> Fact:
     if isinstance(value, bool) or not isinstance(value, int | float):
         return Fact(label, words=(str(value),))
     return Fact(
-        label, number=float(value), tolerance=float(raw.get("tolerance", 0)), relative=float(raw.get("relative", 0.02))
+        label, number=float(value), tolerance=float(raw.get("tolerance", 0)), relative=float(raw.get("relative", 0.0))
     )
 
 
