@@ -166,6 +166,9 @@ def test_embedded_lab_needs_the_token_and_never_logs_the_key(embedded: LabServer
 def test_team_lab_chats_and_runs_through_the_gateway_with_the_callers_token(
     team: LabServer, model: ScriptedModel
 ) -> None:
+    page = httpx.get(f"{team.url}/lab", timeout=30)  # the page is the gateway's; its API is the Lab service's
+    assert (page.status_code, "script-src 'self'" in page.headers["content-security-policy"]) == (200, True)
+    assert '<script src="/static/lab/lab.js" defer></script>' in page.text
     _check_chat_turn_with_a_plot(team, model)
     run_id = _check_a_run_fills_its_table(team, model)
     assert _api(team, "GET", run_id, OTHER_TOKEN).status_code == 404  # a run is its token's own
