@@ -10,7 +10,7 @@ from mcp.server import Server
 from bagmcp_analysis.embedded import embedded_part as analysis_part
 from bagmcp_bag_store.embedded import embedded_part as bag_store_part
 from bagmcp_cli.settings import EmbeddedSettings
-from bagmcp_cli.token_commands import tokens_file
+from bagmcp_cli.token_actions import tokens_file
 from bagmcp_gateway.aggregator import build_gateway_server
 from bagmcp_gateway.app import create_app
 from bagmcp_gateway.settings import GatewaySettings

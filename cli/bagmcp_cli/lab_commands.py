@@ -7,6 +7,7 @@ import argparse
 from pathlib import Path
 from typing import Any
 
+from bagmcp_cli.urls import mcp_url
 from bagmcp_shared.settings import Env
 
 
@@ -39,7 +40,12 @@ def add_lab_commands(commands: Any) -> None:
     lab = commands.add_parser("lab", help="benchmark models on the paper's tasks over an MCP URL (MCP Lab)")
     actions = lab.add_subparsers(dest="lab_command", required=True)
     run = actions.add_parser("run", help="run a task suite against one model and write results.json and report.md")
-    run.add_argument("--url", required=True, help="the MCP URL, e.g. http://127.0.0.1:8000/mcp")
+    run.add_argument(
+        "--url",
+        required=True,
+        type=mcp_url,
+        help="the server (its base URL or its /mcp URL), e.g. http://127.0.0.1:8000",
+    )
     run.add_argument("--token", default=None, help="bearer token (default: $BAGMCP_TOKEN); its profile sets the tools")
     run.add_argument("--provider", required=True, choices=["anthropic", "openai"])
     run.add_argument("--model", required=True, help="e.g. claude-sonnet-4-5, gpt-4.1-mini, llama-3.1-8b-instant")

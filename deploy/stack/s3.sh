@@ -16,9 +16,16 @@ key = "$WEED_JWT_KEY-write"
 [jwt.signing.read]
 key = "$WEED_JWT_KEY-read"
 TOML
-for port in "$S3_GRPC_PORT" "$WEED_MASTER_GRPC_PORT" "$WEED_VOLUME_GRPC_PORT" "$WEED_FILER_GRPC_PORT"; do
-  rm -f /tmp/seaweedfs-*-"$port".sock  # left by a weed that was killed; weed names them by port
-done
+# weed puts its gRPC unix sockets in /tmp whatever it is told (named by port): removed before it starts (left by
+# a weed that was killed) and after it stops, so a stack leaves nothing in /tmp. Its own log files go to TMPDIR.
+clean() {
+  for port in "$S3_GRPC_PORT" "$WEED_MASTER_GRPC_PORT" "$WEED_VOLUME_GRPC_PORT" "$WEED_FILER_GRPC_PORT"; do
+    rm -f /tmp/seaweedfs-*-"$port".sock
+  done
+}
+clean
+export TMPDIR="$dir/tmp"
+mkdir -p "$TMPDIR"
 cd "$dir"  # weed reads ./security.toml
 # weed takes over ten seconds to stop on SIGTERM; what it acknowledged is on disk, so it gets two
 weed server -dir="$dir/data" -ip=127.0.0.1 -ip.bind=127.0.0.1 -filer=true -filer.disableHttp -s3=true \
@@ -32,9 +39,13 @@ weed server -dir="$dir/data" -ip=127.0.0.1 -ip.bind=127.0.0.1 -filer=true -filer
 weed=$!
 stop() {
   kill -TERM "$weed" 2>/dev/null || true
-  for _ in 1 2 3 4; do kill -0 "$weed" 2>/dev/null || exit 0; sleep 0.5; done
+  for _ in 1 2 3 4; do kill -0 "$weed" 2>/dev/null || { clean; exit 0; }; sleep 0.5; done
   kill -KILL "$weed" 2>/dev/null || true
+  clean
   exit 0
 }
 trap stop TERM INT
-wait "$weed"
+status=0
+wait "$weed" || status=$?
+clean
+exit "$status"

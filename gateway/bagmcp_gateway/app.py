@@ -29,7 +29,7 @@ from bagmcp_gateway.tokens.models import SCOPES, TokenRecord
 from bagmcp_gateway.tokens.store import FileTokenStore, RedisTokenStore, TokenStore
 from bagmcp_gateway.tokens.verifier import GatewayVerifier
 from bagmcp_gateway.upstreams import Upstream
-from bagmcp_kit.error_shape import UniformAuthErrors
+from bagmcp_kit.error_shape import UniformErrors
 from bagmcp_kit.http_errors import StatusTable
 from bagmcp_kit.service_app import HOST_CHECK_IN_MIDDLEWARE, new_app
 from bagmcp_shared.redis_errors import answers
@@ -157,5 +157,5 @@ def create_app(
 
     install_console(app)
     install_lab_page(app)
-    app.mount("/", UniformAuthErrors(mcp_app))
+    app.mount("/", UniformErrors(mcp_app))
     return app

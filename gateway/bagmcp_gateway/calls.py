@@ -74,7 +74,7 @@ async def _checked_call(
     record.upstream = upstream.name
     if not gateway.policy.allows(route.tool, caller):
         record.outcome = "denied"
-        return error_result(f"{name} is not enabled for this token (its profile, allow/deny lists or scopes)")
+        return error_result(gateway.policy.refusal(route.tool, caller))
     if gateway.limiter is not None and (wait := await gateway.limiter.take(who(caller))):
         record.outcome = "rate_limited"
         after = retry_after_s(wait)

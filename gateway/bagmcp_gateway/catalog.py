@@ -25,12 +25,13 @@ from mcp.client.subscriptions import ListenNotSupportedError
 from mcp.server.subscriptions import ResourcesListChanged, ServerEvent, SubscriptionBus, ToolsListChanged
 from mcp.shared.inbound import x_mcp_header_map
 
-from bagmcp_gateway.connections import Connections
+from bagmcp_gateway.connections import Connections, failure_text
 from bagmcp_gateway.instructions import merged_instructions
 from bagmcp_gateway.resource_routes import ResourceRoutes, UpstreamResources
 from bagmcp_gateway.upstreams import GatewayConfigError, Upstream
 
 log = logging.getLogger(__name__)
+STARTUP_GRACE_S = 60.0  # services and the gateway start together: an upstream not answering yet is no error
 NO_HEADERS: dict[str, Any] = {"type": "object"}
 
 
@@ -92,6 +93,9 @@ class ToolCatalog:
         self.conflicts: list[str] = []
         self.instructions: str | None = None
         self._wake = anyio.Event()
+        self._born = time.monotonic()
+        self._waited: set[str] = set()
+        self._seen_up: set[str] = set()
         bus.subscribe(self._heard)  # a change another replica noticed: re-list here too
 
     async def _list(self, upstream: Upstream) -> UpstreamState:
@@ -107,14 +111,27 @@ class ToolCatalog:
         try:
             listed = await self._list(upstream)
         except Exception as err:  # any failure means down; the others go on
-            if state.up or state.error is None:
-                log.warning("upstream %s is unavailable: %s", upstream.name, err)
-            self.states[upstream.name] = UpstreamState(False, f"{type(err).__name__}: {err}", [], time.time())
+            self._report_down(upstream, state, failure_text(err))
+            self.states[upstream.name] = UpstreamState(False, failure_text(err), [], time.time())
             return
+        self._seen_up.add(upstream.name)
         if not state.up or [t.name for t in listed.tools] != [t.name for t in state.tools]:
             log.info("upstream %s is up with %d tools", upstream.name, len(listed.tools))
         listed.since = state.since if state.up else time.time()
         self.states[upstream.name] = listed
+
+    def _report_down(self, upstream: Upstream, state: UpstreamState, why: str) -> None:
+        """Once per outage: a warning, except while an upstream that never answered is still starting (services
+        and the gateway start together; the first seconds of "not connected" are no error)."""
+        name = upstream.name
+        if name not in self._seen_up and time.monotonic() - self._born < STARTUP_GRACE_S:
+            if name not in self._waited:
+                self._waited.add(name)
+                log.info("waiting for upstream %s to start (%s)", name, why)
+            return
+        if state.up or state.error is None or name in self._waited:
+            self._waited.discard(name)
+            log.warning("upstream %s is unavailable: %s", name, why)
 
     async def refresh_all(self) -> bool:
         """List every upstream at once; True when the tool list changed."""

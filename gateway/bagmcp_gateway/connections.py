@@ -54,6 +54,14 @@ def _relay_for(upstream: Upstream, client: Client) -> JsonRpcRelay | None:
     return JsonRpcRelay(upstream.name, url, headers=headers, timeout_s=upstream.timeout_s)
 
 
+def failure_text(err: BaseException) -> str:
+    """What went wrong, in one line: the innermost error of nested task groups ("ConnectError: All connection
+    attempts failed", not "unhandled errors in a TaskGroup")."""
+    while isinstance(err, BaseExceptionGroup) and len(err.exceptions) == 1:
+        err = err.exceptions[0]
+    return f"{type(err).__name__}: {err}"
+
+
 def _sole(group: ExceptionGroup[Exception]) -> Exception:
     """The one exception ``group`` holds (so callers see an error answer as such), or the group itself."""
     inner = group.exceptions[0] if len(group.exceptions) == 1 else group
@@ -84,8 +92,8 @@ class Connections:
                     relay = _relay_for(upstream, client)
                     self._links[upstream.name] = Link(trusting(client), relay)
                     await stale.wait()
-            except Exception as err:  # down or dropped: try again shortly
-                log.info("upstream %s not connected: %s", upstream.name, err)
+            except Exception as err:  # down, dropped or not started yet: try again shortly (the catalog reports it)
+                log.debug("upstream %s not connected: %s", upstream.name, failure_text(err))
             finally:
                 self._links.pop(upstream.name, None)
                 if relay is not None:

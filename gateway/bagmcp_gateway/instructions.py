@@ -1,7 +1,10 @@
 """The gateway's one instructions text, made from what its upstreams' instructions say.
 
-Each sentence appears once: first the sentences only one upstream states (what each is for), in
-configuration order, then those several upstreams share (the conventions every service repeats).
+Each sentence appears once: first those several upstreams share (the conventions every service repeats:
+bags, times, message paths), then the sentences only one upstream states (what each is for), in
+configuration order. Conventions go first because clients cut instructions: Claude Code keeps the first
+2,048 characters without telling the server (tests/unit/gateway/test_tool_surface.py keeps the whole text
+under that).
 """
 
 from __future__ import annotations
@@ -25,4 +28,4 @@ def merged_instructions(texts: Sequence[str | None]) -> str | None:
     ordered = list(dict.fromkeys(s for found in per_text for s in found))
     own = [s for s in ordered if counts[s] == 1]
     shared = [s for s in ordered if counts[s] > 1]
-    return " ".join(own + shared) or None
+    return " ".join(shared + own) or None

@@ -18,31 +18,8 @@ import mcp.types as types
 from mcp.server.auth.provider import AccessToken
 
 from bagmcp_gateway.lean import lean_tools
+from bagmcp_gateway.profiles import DEFAULT_PROFILES, Profile
 from bagmcp_gateway.tokens.models import SCOPES
-
-CORE_TOOLS = (
-    "list_bags",
-    "bag_info",
-    "search_messages",
-    "analyze_trajectory",
-    "analyze_lidar_scan",
-    "get_tf_tree",
-    "plot_timeseries",
-    "plot_2d",
-    "get_job",  # core tools may answer with a job: follow it
-    "cancel_job",
-)
-
-
-@dataclass(frozen=True)
-class Profile:
-    """A named set of tools (globs); ``lean`` lists them as lean.py says, for small models."""
-
-    tools: tuple[str, ...]
-    lean: bool = False
-
-
-DEFAULT_PROFILES: Mapping[str, Profile] = {"full": Profile(("*",)), "core": Profile(CORE_TOOLS, lean=True)}
 
 
 def _any(name: str, globs: Sequence[str]) -> bool:
@@ -90,6 +67,18 @@ class ToolPolicy:
         if not _granted(tool.name, profile.tools if profile is not None else None, allow, deny):
             return False
         return needed_scope(tool) in caller.scopes
+
+    def refusal(self, tool: types.Tool, caller: AccessToken | None) -> str:
+        """Why ``caller`` may not call ``tool``, saying what to do when a scope is all it lacks."""
+        scope = needed_scope(tool)
+        if caller is not None and scope not in caller.scopes:
+            widened = caller.model_copy(update={"scopes": [*caller.scopes, scope]})
+            if self.allows(tool, widened):
+                return (
+                    f"{tool.name} needs the {scope} scope, which this token lacks; an admin can make a token that "
+                    f"has it: bagmcp token create NAME --scopes read,{scope}"
+                )
+        return f"{tool.name} is not enabled for this token (its profile or allow/deny lists)"
 
     def may_read(self, upstream_tools: Sequence[types.Tool], caller: AccessToken | None) -> bool:
         """Whether ``caller`` may list and read the resources of the upstream publishing ``upstream_tools``."""

@@ -8,7 +8,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from bagmcp_gateway.answers import DEFAULT_MAX_CHARS
-from bagmcp_gateway.policy import DEFAULT_PROFILES, Profile, ToolPolicy
+from bagmcp_gateway.policy import ToolPolicy
+from bagmcp_gateway.profiles import DEFAULT_PROFILES, Profile
 from bagmcp_gateway.ratelimit import Limit
 from bagmcp_gateway.tokens.models import token_hash
 from bagmcp_gateway.tokens.verifier import JwtSettings

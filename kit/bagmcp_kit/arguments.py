@@ -24,12 +24,14 @@ TopicName = Annotated[str, Field(description="e.g. /odom")]
 TimeArg = Annotated[float | str, Field(description="s from start, or ISO")]
 Offset = Annotated[int, Field(ge=0, description="first item to return (paging)")]
 Fields = Annotated[list[str] | None, Field(description="paths to keep, e.g. ['pose.pose.position.x']")]
+OptionalTopic = Annotated[str | None, Field(description="default: the obvious one")]
 
 CONVENTIONS = (
     "Bags: `bag` is an id, a name or a unique prefix (see list_bags). "
     "Times: numbers below 1e9 are seconds from the bag start, larger numbers epoch seconds, or ISO-8601; "
     "answers give both offset_s and the absolute stamp, and say which clock they use. "
-    "Message paths: field.sub[index], e.g. pose.pose.position.x or ranges[0]; quaternions offer roll/pitch/yaw."
+    "Message paths: field.sub[index], e.g. pose.pose.position.x or ranges[0]; quaternions offer roll/pitch/yaw. "
+    "An omitted topic is the obvious one for the tool (the answer names it)."
 )
 
 READ_ONLY = ToolAnnotations(read_only_hint=True, destructive_hint=False, idempotent_hint=True, open_world_hint=False)

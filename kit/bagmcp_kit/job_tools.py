@@ -25,7 +25,7 @@ class JobTools:
 
     @tool(READ_ONLY)
     def get_job(self, ctx: Context, job_id: JobId) -> Annotated[CallToolResult, JobInfo]:
-        """State, progress and, once done, the result of a job a long call started.
+        """State, progress and, when done, the result of a long call's job.
         Example: get_job(job_id="3f2a...")."""
         who = caller(ctx)
         return run_query(

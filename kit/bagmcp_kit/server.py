@@ -11,6 +11,7 @@ from pydantic import AnyHttpUrl
 
 from bagmcp_kit.arguments import CONVENTIONS, register
 from bagmcp_kit.auth import SERVICE_SCOPE, ServiceTokenVerifier
+from bagmcp_kit.ingest_wait import IngestWait, wait_for_ingest
 from bagmcp_kit.toolsets import tools_of
 from bagmcp_kit.web.viewers import add_viewer, ui_meta
 from bagmcp_shared.settings import ServiceSettings
@@ -35,12 +36,14 @@ def new_server(
     purpose: str,
     tools: Sequence[object],
     guard: Guard | None = None,
+    ingest: IngestWait | None = None,
 ) -> MCPServer:
     """An MCP server with the marked tools of ``tools`` (objects, in order), whose instructions state
     what it is for and the shared conventions once. Tools marked with a view point at the service's MCP
     Apps viewer, ``ui://<name without "bagmcp-">/viewer.html``, served here as a resource.
 
-    Without a ``guard`` the server is for in-process use (embedded mode, tests)."""
+    Without a ``guard`` the server is for in-process use (embedded mode, tests). With ``ingest``, a call about a
+    bag still being ingested waits for it (see ingest_wait.py)."""
     instructions = f"{purpose} {CONVENTIONS}"
     if guard is None:
         server = MCPServer(name, instructions=instructions)
@@ -57,4 +60,6 @@ def new_server(
     specs = tools_of(*tools)
     viewer = ui_meta(add_viewer(server, name.removeprefix("bagmcp-"))) if any(s.view for s in specs) else None
     register(server, specs, viewer_meta=viewer)
+    if ingest is not None:
+        server.middleware.append(wait_for_ingest(ingest.catalog, budget_s=ingest.budget_s))
     return server

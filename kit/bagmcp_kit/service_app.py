@@ -4,6 +4,8 @@
 from __future__ import annotations
 
 import contextlib
+import errno
+import socket
 from collections.abc import AsyncIterator, Awaitable, Callable, Sequence
 from contextlib import AbstractAsyncContextManager
 
@@ -14,9 +16,10 @@ from mcp.server.transport_security import TransportSecuritySettings
 
 from bagmcp_kit.access_log import redact_access_log
 from bagmcp_kit.auth import rest_guard
-from bagmcp_kit.error_shape import UniformAuthErrors
+from bagmcp_kit.error_shape import UniformErrors
 from bagmcp_kit.host_check import HostAllowList
 from bagmcp_kit.http_errors import StatusTable, install_error_handlers
+from bagmcp_shared.errors import SettingsError
 from bagmcp_shared.settings import HttpSettings
 
 Guard = Callable[[Request], Awaitable[None]]
@@ -80,11 +83,44 @@ def create_service_app(
         allowed_hosts=allowed_hosts,
         statuses=statuses,
     )
-    app.mount("/", UniformAuthErrors(mcp_app))
+    app.mount("/", UniformErrors(mcp_app))
     return app
 
 
-def serve(app: FastAPI, http: HttpSettings, *, log_level: str = "info") -> None:
-    """Run ``app`` where ``http`` says, until interrupted (access logs never show a secret sent in a query)."""
+def serve(
+    app: FastAPI,
+    http: HttpSettings,
+    *,
+    log_level: str = "info",
+    announce: Callable[[], None] | None = None,
+    sock: socket.socket | None = None,
+) -> None:
+    """Run ``app`` where ``http`` says (or on ``sock``, bound already), until interrupted (access logs never show a
+    secret sent in a query).
+
+    The socket is bound first, so a port in use is one clear error (a SettingsError) before anything says it
+    serves, and ``announce`` runs only once the socket is listening."""
     redact_access_log()
-    uvicorn.run(app, host=http.host, port=http.port, log_level=log_level)
+    sock = sock if sock is not None else bound_socket(http.host, http.port)
+    if announce is not None:
+        announce()
+    uvicorn.Server(uvicorn.Config(app, log_level=log_level)).run(sockets=[sock])
+
+
+def bound_socket(host: str, port: int) -> socket.socket:
+    """A listening TCP socket on ``host:port`` (SO_REUSEADDR, as uvicorn sets it)."""
+    family = socket.AF_INET6 if ":" in host else socket.AF_INET
+    sock = socket.socket(family, socket.SOCK_STREAM)
+    sock.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
+    try:
+        sock.bind((host, port))
+    except OSError as err:
+        sock.close()
+        if err.errno == errno.EADDRINUSE:
+            raise SettingsError(
+                f"port {port} on {host} is in use (another bagmcp?); stop that server or pick another port"
+            ) from err
+        raise SettingsError(f"cannot listen on {host}:{port}: {err.strerror or err}") from err
+    sock.listen(2048)
+    sock.set_inheritable(True)
+    return sock

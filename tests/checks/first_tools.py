@@ -72,9 +72,11 @@ async def check_messages_in_range(client: Client, name: str) -> None:
     speeds = [m["data"]["linear.x"] for m in page["messages"]]
     assert speeds == pytest.approx([sc.cmd_speed_at(2.0)] * 4)
     following = await call(client, "get_messages_in_range", **window, max_messages=20, cursor=page["next_cursor"])
-    offsets = [m["time"]["offset_s"] for m in following["messages"]]
+    offsets = [m["offset_s"] for m in following["messages"]]
     assert offsets == pytest.approx([2.4 + i / 10 for i in range(7)])
     assert following["truncated"] is False
+    assert following["time_base"].startswith("log time, s from the bag start ")
+    assert set(following["messages"][0]) == {"offset_s", "data"}  # the time base is said once per answer
 
 
 async def check_clear_errors(client: Client, name: str) -> None:
@@ -119,6 +121,19 @@ async def check_columns_and_thinning(client: Client, name: str) -> None:
     assert max(thin["columns"]["pose.pose.position.x"]) == pytest.approx(max(xs), rel=1e-4)
     every = await call(client, "get_messages_in_range", bag=name, topic="/odom", every=50, max_messages=100)
     assert every["returned"] == sc.COUNTS[sc.ODOM_TOPIC] // 50
-    assert every["messages"][1]["time"]["offset_s"] == pytest.approx(50 / sc.ODOM_HZ)
+    assert every["messages"][1]["offset_s"] == pytest.approx(50 / sc.ODOM_HZ)
     text = await call_error(client, "get_messages_in_range", bag=name, topic="/odom", layout="columns")
     assert "fields" in text
+    await check_max_points_is_honoured_or_refused(client, name, fields)
+
+
+async def check_max_points_is_honoured_or_refused(client: Client, name: str, fields: list[str]) -> None:
+    """max_points without layout=columns thins the fields in columns and says so; without fields it is refused."""
+    thin = await call(client, "get_messages_in_range", bag=name, topic="/odom", fields=fields, max_points=50)
+    assert thin["total"] == sc.COUNTS[sc.ODOM_TOPIC]
+    assert 2 < thin["returned"] <= 50
+    assert thin["downsampled"] is True
+    assert thin["notes"][0] == "max_points thins numeric fields, so this answer is in layout=columns"
+    refused = await call_error(client, "get_messages_in_range", bag=name, topic="/odom", max_points=50)
+    assert "max_points (it thins numeric fields, in layout=columns) needs `fields`" in refused
+    assert "every=N" in refused

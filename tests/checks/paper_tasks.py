@@ -149,7 +149,7 @@ async def cut_and_peak(agent: Agent, bag: str) -> None:
     first = min(t for t in window if drive.twist_at(t)[0] == top)
     match = peak["matches"][0]
     assert (match["value"], match["time"]["offset_s"]) == pytest.approx((top, first))
-    position = match["correlated"]["data"]["pose"]["pose"]["position"]
+    position = match["correlated"]["data"]["pose.pose.position"]
     assert (position["x"], position["y"]) == pytest.approx(drive.pose_at(first)[:2], abs=1e-6)
     agent.task_done()
 

@@ -14,7 +14,7 @@ import pytest
 from mcp import Client
 
 from tests.fixtures import scenario as sc
-from tests.fixtures.mcp_client import call, call_error
+from tests.fixtures.mcp_client import call, call_error, text_of
 
 Answer = dict[str, Any]
 
@@ -97,7 +97,21 @@ async def check_correlation(client: Client, bag: str) -> None:
         assert partner["topic"] == "/odom"
         assert partner["delta_s"] == pytest.approx(0.0)
         x, _, _ = sc.pose_at(match["time"]["offset_s"])
-        assert partner["data"]["pose"]["pose"]["position"]["x"] == pytest.approx(x)
+        assert partner["data"]["pose.pose.position"]["x"] == pytest.approx(x)
+        assert set(partner["data"]) == {
+            "pose.pose.position",
+            "pose.pose.orientation.yaw",
+            "twist.twist.linear",
+            "twist.twist.angular.z",
+        }  # what answers "where and how fast", not the covariances
+    whole = await search(
+        client, bag=bag, topic="/cmd_vel", condition="greater_than", value=0.9, correlate_topic="/odom.", limit=1
+    )
+    assert whole["matches"][0]["correlated"]["data"]["pose"]["covariance"][0] == 0  # "/odom." asks for it whole
+    picked = await search(
+        client, bag=bag, topic="/cmd_vel", condition="greater_than", value=0.9, correlate_topic="/odom.twist", limit=1
+    )
+    assert list(picked["matches"][0]["correlated"]["data"]) == ["twist"]
 
 
 async def check_extremes(client: Client, bag: str) -> None:
@@ -113,8 +127,11 @@ async def check_extremes(client: Client, bag: str) -> None:
     assert first["value"] == pytest.approx(peak)
     assert first["time"]["offset_s"] == pytest.approx(at_peak[0])
     x, y, _ = sc.pose_at(at_peak[0])
-    position = first["correlated"]["data"]["pose"]["pose"]["position"]
+    position = first["correlated"]["data"]["pose.pose.position"]
     assert (position["x"], position["y"]) == pytest.approx((x, y))
+    said = text_of(await client.call_tool("search_messages", {"bag": bag, "topic": "/cmd_vel", "condition": "max"}))
+    top_all = max(sc.cmd_speed_at(t) for t in sc.ticks(sc.CMD_HZ))
+    assert said.startswith(f"max linear.x = {top_all:.6g} first at ")  # the peak first, then how many share it
     low = await search(client, bag=bag, topic="/cmd_vel", condition="min", field="linear.x")
     assert low["matches"][0]["value"] == pytest.approx(min(sc.cmd_speed_at(t) for t in sc.ticks(sc.CMD_HZ)))
     assert "leave out `value`" in await call_error(

@@ -24,7 +24,7 @@ from tests.fixtures.mcp_client import call, http_client, text_of
 from tests.fixtures.processes import BIN, http_ok, service
 from tests.fixtures.servers import free_port
 from tests.integration.conftest import POSES_TF_MESSAGES
-from tests.integration.stack import TOKEN, Stack
+from tests.integration.stack import TOKEN, Stack, new_token
 
 pytestmark = pytest.mark.anyio
 NAMES = ["drive", "drive_db3", "drive_mcap"]
@@ -85,6 +85,15 @@ async def test_the_papers_ten_tasks_take_two_calls_each_through_the_embedded_ser
 async def test_the_papers_ten_tasks_take_two_calls_each_through_the_stack(stack: Stack, stack_drive: list[str]) -> None:
     async with http_client(f"{stack.url}/mcp", TOKEN) as client:
         await check_paper_tasks(client, stack_drive[-1], stack_drive)
+
+
+async def test_the_core_profile_answers_the_papers_ten_tasks(stack: Stack, stack_drive: list[str]) -> None:
+    """A small model's token (profile core, the scopes filter_bag needs) does every task, in two calls each."""
+    small = new_token(stack, "core-model", "--profile", "core", "--scopes", "read,upload")
+    async with http_client(f"{stack.url}/mcp", small) as client:
+        listed = {t.name for t in (await client.list_tools()).tools}
+        assert "describe_topic" not in listed  # still the small profile
+        await check_paper_tasks(client, stack_drive[0], stack_drive)
 
 
 async def test_analysis_answers_on_three_formats_through_the_stack(stack: Stack, stack_drive: list[str]) -> None:

@@ -164,6 +164,8 @@ def test_a_process_that_dies_is_restarted_and_the_stack_keeps_answering(stack_a:
         restarted = rf"{program} was killed by signal 9; restarting it in \d+ s\n[\s\S]*started {program} \(pid"
         stack_a.wait_for_line(restarted)
     wait_until(http_ok(f"{stack_a.url}/readyz"), timeout_s=60, what="the stack to be ready again")
+    listing = f"{stack_a.url}/api/v1/bags"  # /readyz says what the gateway's last look saw (every 5 s): ask it
+    wait_until(http_ok(listing, headers={"Authorization": f"Bearer {TOKEN}"}), timeout_s=60, what="the bag-store")
     stack_a.upload(write_chatter_bag(tmp_path, count=500, name="after_restart"))
     bags = stack_a.wait_ready(["after_restart"])
     assert {"scenario_mcap", "after_restart"} <= bags.keys()
@@ -188,9 +190,21 @@ def test_a_restart_keeps_every_bag_on_the_same_ports(stack_a: MakeStack) -> None
     assert all(status == "ready" for _, status in before.values())
     ports = stack_a.ports()
     stack_a.stop()
+    assert _left_in_tmp(ports) == []  # weed's gRPC sockets are gone with it
     stack_a.start()
     assert stack_a.ports() == ports  # the saved ports, free again
     assert stack_a.bags() == before
+
+
+def _left_in_tmp(ports: set[int]) -> list[str]:
+    return [str(p) for p in Path("/tmp").glob("seaweedfs-*.sock") if int(p.stem.rsplit("-", 1)[-1]) in ports]
+
+
+def test_a_start_logs_no_noise(stack_a: MakeStack) -> None:
+    """No warning a user cannot act on: Celery's root warning, the gateway's start-up race with its upstreams."""
+    log = stack_a.log.read_text()
+    assert "superuser privileges" not in log
+    assert "unhandled errors in a TaskGroup" not in log
 
 
 def test_bags_lost_with_redis_are_listed_again_from_storage_when_the_stack_starts(stack_a: MakeStack) -> None:

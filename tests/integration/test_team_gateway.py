@@ -22,7 +22,7 @@ from cryptography.hazmat.primitives.asymmetric import rsa
 from jwt.algorithms import RSAAlgorithm
 from mcp import Client
 
-from bagmcp_gateway.policy import CORE_TOOLS
+from bagmcp_gateway.profiles import CORE_TOOLS
 from tests.fixtures.bagfactory import BagKind
 from tests.fixtures.mcp_client import call, call_error, http_client
 from tests.fixtures.processes import BIN, http_ok, service, wait_until

@@ -86,6 +86,11 @@ class MessageOut(BaseModel):
     data: JsonValue
 
 
+class RangeMessage(BaseModel):
+    offset_s: float = Field(description="log time, s from the bag start (time_base)")
+    data: JsonValue
+
+
 class MessageAtTime(BaseModel):
     bag: str
     topic: str
@@ -103,11 +108,12 @@ class MessageRange(BaseModel):
     start: Instant
     end: Instant
     clock: Clock
+    time_base: str = Field(description="what offset_s and t count from")
     total: int = Field(description="messages in the whole window")
     returned: int
     truncated: bool
     next_cursor: str | None
-    messages: list[MessageOut]
+    messages: list[RangeMessage]
     t: list[float | int] | None = Field(default=None, description="s from bag start, to 1 ms (layout columns)")
     digits: int | None = Field(default=None, description="significant digits of the column values")
     columns: dict[str, list[float | int | None]] | None = Field(default=None, description="one list per field")

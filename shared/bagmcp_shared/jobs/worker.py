@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import functools
+import warnings
 from collections.abc import Callable
 
 from celery import Celery
@@ -28,6 +29,9 @@ def register_job_task(
 def job_worker(task: TaskRef, build: Callable[[Resources], JobRegistry]) -> tuple[Celery, Callable[[], Resources]]:
     """A Celery app that takes only ``task.queue`` and runs its jobs (settings from BAGMCP_*); also returns
     the lazily built resources, for services with more tasks than jobs."""
+    # Celery warns "running the worker with superuser privileges" once per worker (three times a `make stack`
+    # start) when run as root, as in a dev container; nothing here accepts pickle, which is what it guards.
+    warnings.filterwarnings("ignore", message="You're running the worker with superuser privileges")
     settings = TeamSettings.from_env(Env())
     app = create_celery(settings.redis_url, queue=task.queue, visibility_timeout_s=settings.task_visibility_timeout_s)
     resources = functools.cache(lambda: team_resources(settings, queue=task.queue))

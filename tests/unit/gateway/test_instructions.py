@@ -1,4 +1,5 @@
-"""The gateway's instructions: each upstream's sentences once, what each is for before what they share."""
+"""The gateway's instructions: each upstream's sentences once, what they share (the conventions) before what
+each is for, as clients keep only the start of long instructions."""
 
 from __future__ import annotations
 
@@ -23,9 +24,9 @@ def test_sentences_end_before_a_capital_or_a_backquote_only() -> None:
     ]
 
 
-def test_shared_sentences_come_once_after_what_each_upstream_is_for() -> None:
+def test_shared_sentences_come_once_before_what_each_upstream_is_for() -> None:
     merged = merged_instructions([f"Robot bags. {SHARED}", None, f"Plots. {SHARED}", "Weather readings."])
-    assert merged == f"Robot bags. Plots. Weather readings. {SHARED}"
+    assert merged == f"{SHARED} Robot bags. Plots. Weather readings."
 
 
 def test_no_instructions_anywhere_is_none() -> None:
@@ -40,4 +41,4 @@ async def test_a_client_of_the_in_process_gateway_reads_the_conventions_once(ser
         text = client.instructions
     assert text is not None
     assert text.count(CONVENTIONS) == 1
-    assert text.index("Plots of robot bags") < text.index(CONVENTIONS)
+    assert text.index(CONVENTIONS) < text.index("Plots of robot bags")

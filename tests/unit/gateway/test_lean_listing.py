@@ -1,5 +1,6 @@
-"""A lean profile's listing: no output schemas, read-only tools without the hints the spec gives no meaning
-there, and argument descriptions several tools repeat (conventions) left to the instructions."""
+"""A lean profile's listing: no output schemas, no annotations (hints for clients, not models), no tuning knobs
+(optional arguments with a default), and argument descriptions several tools repeat (conventions) left to the
+instructions."""
 
 from __future__ import annotations
 
@@ -35,6 +36,24 @@ def test_a_lean_listing_keeps_what_a_model_needs_and_drops_what_it_can_do_withou
         "topic": tools[0].input_schema["properties"]["topic"],
     }
     assert lean["c"].input_schema["properties"]["field"] == {"type": "string", "description": "path to test"}
-    assert lean["a"].annotations == types.ToolAnnotations(read_only_hint=True, open_world_hint=False)
-    assert lean["stop"].annotations == STOPS  # not read-only: every hint means something
+    assert lean["a"].annotations is None
+    assert lean["stop"].annotations is None
     assert lean["stop"].input_schema == tools[3].input_schema
+
+
+def test_knobs_with_a_default_are_left_out_and_arguments_without_one_stay() -> None:
+    listed = types.Tool(
+        name="search",
+        input_schema={
+            "type": "object",
+            "properties": {
+                "bag": {"type": "string"},
+                "limit": {"type": "integer", "default": 20, "description": "matches to show"},
+                "start": {"type": ["number", "string"]},
+                "count": {"type": "integer", "default": 3},
+            },
+            "required": ["bag", "count"],
+        },
+    )
+    kept = lean_tools([listed])[0].input_schema["properties"]
+    assert list(kept) == ["bag", "start", "count"]  # a required argument stays whatever its default

@@ -12,12 +12,14 @@ import pytest
 from mcp import Client
 from mcp.types import Tool
 
-from bagmcp_gateway.policy import DEFAULT_PROFILES, ToolPolicy, listing_characters
+from bagmcp_gateway.policy import ToolPolicy, listing_characters
+from bagmcp_gateway.profiles import DEFAULT_PROFILES
 from tests.fixtures.inprocess import InProcess
 
 pytestmark = pytest.mark.anyio
 AVERAGE_BUDGET, TOOL_BUDGET = 600, 1200
 CORE_LISTING_BUDGET = 6000  # the whole tools/list of the core profile, for small models
+CLIENT_CUT = 2048  # Claude Code keeps this many characters of each description and of the instructions
 
 
 def model_reads(tool: Tool) -> int:
@@ -69,12 +71,27 @@ async def test_each_profile_s_whole_tools_list_is_printed_and_core_stays_small(s
         print(f"profile {name}: {len(listing)} tools, tools/list {listing_characters(listing):,} characters")
     assert [t.name for t in listings["full"]] == [t.name for t in tools]
     core = [t.name for t in listings["core"]]
-    assert {"bag_info", "search_messages", "get_job", "cancel_job"} <= set(core)
-    assert len(core) == 10
+    assert {"bag_info", "search_messages", "filter_bag", "plot_lidar_scan", "plot_histogram", "get_job"} <= set(core)
+    assert len(core) == 12  # every tool of the paper's ten tasks (tests/checks/paper_tasks.py), and bag_info, get_job
     assert listing_characters(listings["core"]) < CORE_LISTING_BUDGET
+    lean = {t.name: t for t in listings["core"]}
+    assert lean["list_bags"].annotations is None  # hints for clients, not models
+    assert "limit" not in lean["search_messages"].input_schema["properties"]  # a knob with a default
 
 
 async def test_every_description_ends_with_an_example_call(served: InProcess) -> None:
     for tool in await _tools(served):
         ending = re.search(r"Example: [^\n]*\Z", (tool.description or "").rstrip())
         assert ending is not None, f"{tool.name}: the description does not end with an example"
+
+
+async def test_descriptions_and_instructions_fit_what_clients_keep_conventions_first(served: InProcess) -> None:
+    async with Client(served.gateway(), cache=None) as client:
+        tools = list((await client.list_tools()).tools)
+        instructions = client.instructions or ""
+    print(f"instructions: {len(instructions)} characters")
+    assert len(instructions) < CLIENT_CUT
+    assert instructions.startswith("Bags: `bag` is an id, a name or a unique prefix")
+    for profile in DEFAULT_PROFILES:
+        for tool in ToolPolicy().profile_listing(tools, profile):
+            assert len(tool.description or "") < CLIENT_CUT, (profile, tool.name)

@@ -112,3 +112,17 @@ def test_mcp_takes_the_same_host_and_origin_rule_as_every_other_route() -> None:
         same = client.post("/mcp", json=INITIALIZE, headers={**MCP_HEADERS, "origin": "http://127.0.0.1:8000"})
         assert same.status_code == 200, same.text
         assert "serverInfo" in same.text
+
+
+def test_a_path_no_route_takes_answers_in_the_one_error_shape_and_names_the_right_ones() -> None:
+    app = create_service_app(
+        title="t", server=new_server("t", purpose="Test.", tools=[]), service_token=None, allowed_hosts=LOOPBACK_HOSTS
+    )
+    with TestClient(app, base_url="http://127.0.0.1:8000") as client:
+        for method, path in (("GET", "/nope"), ("POST", "/api/v1/nothing"), ("DELETE", "/healthz")):
+            answer = client.request(method, path)
+            assert answer.status_code == 404, path
+            assert answer.headers["content-type"] == "application/json"
+            error = answer.json()["error"]
+            assert error["code"] == "not_found"
+            assert error["message"].startswith(f"nothing answers {method} {path}: MCP is at /mcp")

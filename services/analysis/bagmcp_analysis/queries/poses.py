@@ -16,6 +16,8 @@ from bagmcp_shared.local_fixes import read_local_fixes
 from bagmcp_shared.timebase import MAX_CLOCK_SKEW_NS
 from bagmcp_shared.topics import GPS, POSE_SOURCES
 
+MAX_RATE_RATIO = 20.0  # header time may run slower or faster than log time (a simulation), but not by more
+
 
 @dataclass(frozen=True)
 class Poses:
@@ -27,15 +29,23 @@ class Poses:
     notes: list[str]
 
 
-def _clock(
+def pose_clock(
     log_ns: npt.NDArray[np.int64], header_ns: npt.NDArray[np.int64]
 ) -> tuple[npt.NDArray[np.int64], str, str | None]:
+    """Header stamps whenever they are consistent within the topic, whatever their offset from log time.
+
+    A simulation's clock is far from log time but measures the robot's motion exactly, while log time carries
+    the recorder's stalls and bursts; answers still report log time, so only speeds and durations use it."""
     stamps, clock, note = pick_clock(log_ns, header_ns)
-    if clock == "header" and len(stamps) and float(np.median(np.abs(stamps - log_ns))) > MAX_CLOCK_SKEW_NS:
-        return (
-            log_ns,
-            "log_time",
-            "header stamps are on another clock than log time (minutes apart), so log time was used",
+    if clock != "header" or len(stamps) < 2:
+        return stamps, clock, note
+    log_span, header_span = int(log_ns.max() - log_ns.min()), int(stamps[-1] - stamps[0])
+    if header_span <= 0 or (log_span > 0 and not 1 / MAX_RATE_RATIO <= header_span / log_span <= MAX_RATE_RATIO):
+        return log_ns, "log_time", "header stamps do not advance with log time, so log time was used"
+    if float(np.median(np.abs(stamps - log_ns))) > MAX_CLOCK_SKEW_NS:
+        note = (
+            f"speeds use the header stamps, which run on another clock than log time (a simulation's: they start "
+            f"at {stamps[0] * 1e-9:.3f} s); times are given in log time"
         )
     return stamps, clock, note
 
@@ -47,16 +57,16 @@ def read_poses(ob: OpenBag, topic: str, msgtype: str, lo: int, hi: int, progress
     if msgtype == GPS:
         fixes = read_local_fixes(ob, topic, lo, hi, progress)
         log_ns = fixes.log_ns
-        stamps, clock, note = _clock(log_ns, fixes.header_ns)
-        track = track_of_fixes(stamps, fixes.metres)
+        stamps, clock, note = pose_clock(log_ns, fixes.header_ns)
+        track = track_of_fixes(stamps, fixes.metres, log_time=clock == "log_time")
         notes.append("GPS fixes as metres east (x) and north (y) of the first valid fix; no heading")
     else:
         columns = [f"{source.position}.{axis}" for axis in "xyz"] + [f"{source.orientation}.yaw"]
         series = read_series(ob.reader, topic, columns, index=ob.index, start_ns=lo, stop_ns=hi + 1, progress=progress)
         x, y, z, yaw = (series.columns[c].astype(np.float64) for c in columns)
         log_ns = series.t_ns
-        stamps, clock, note = _clock(log_ns, series.header_ns)
-        track = Track(t_ns=stamps, x=x, y=y, z=z, yaw=yaw)
+        stamps, clock, note = pose_clock(log_ns, series.header_ns)
+        track = Track(t_ns=stamps, x=x, y=y, z=z, yaw=yaw, log_time=clock == "log_time")
     if note:
         notes.append(note)
     if len(track.t_ns) < 2:

@@ -19,6 +19,7 @@ from bagmcp_shared.access import BagAccess, OpenBag
 from bagmcp_shared.errors import BagmcpError
 from bagmcp_shared.jobs import Progress, spans
 from bagmcp_shared.topics import choose_lidar_topic, choose_pose_topic
+from bagmcp_shared.wording import counted
 
 MAX_LOG_ENTRIES = 10
 MAX_TOPICS = 25
@@ -89,7 +90,7 @@ def _topic_statements(activity: list[TopicActivity]) -> list[str]:
 def _log_statement(ob: OpenBag, bad: list[LogRecord]) -> str:
     first = bad[0]
     return (
-        f"{len(bad)} log records at WARN or above; the first at {(first.t_ns - ob.start_ns) / 1e9:.3f} s "
+        f"{counted(len(bad), 'log record')} at WARN or above; the first at {(first.t_ns - ob.start_ns) / 1e9:.3f} s "
         f"from {first.node}: {first.level} {first.text[:120]!r}"
     )
 
@@ -99,7 +100,7 @@ def _motion_statement(motion: Motion) -> str:
     more = f" and {motion.stop_count - len(motion.stops)} more" if motion.stop_count > len(motion.stops) else ""
     return (
         f"the robot moved {motion.distance_m:.2f} m ({motion.moving_s:.2f} s moving, {motion.stopped_s:.2f} s "
-        f"stopped; max {motion.max_speed_mps or 0:.3f} m/s); {motion.stop_count} stops"
+        f"stopped; max {motion.max_speed_mps or 0:.3f} m/s); {counted(motion.stop_count, 'stop')}"
         + (f": {stops}{more}" if stops else "")
     )
 

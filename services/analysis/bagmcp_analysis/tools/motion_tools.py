@@ -17,20 +17,19 @@ from bagmcp_analysis.reports.trajectory import TrajectoryReport
 from bagmcp_analysis.reports.window import WindowReport
 from bagmcp_analysis.views import AnalysisViews
 from bagmcp_kit.answers import tool_errors
-from bagmcp_kit.arguments import READ_ONLY, BagRef, TimeArg, params_of
+from bagmcp_kit.arguments import READ_ONLY, BagRef, OptionalTopic, TimeArg, params_of
 from bagmcp_kit.jobs import LongAnswer
 from bagmcp_kit.longwork import LongWork
 from bagmcp_kit.toolsets import BagTools, tool
 from bagmcp_kit.web.view_data import add_view
 from bagmcp_shared.access import BagAccess
-
-OptionalTopic = Annotated[str | None, Field(description="default: the obvious one")]
+from bagmcp_shared.wording import counted
 
 
 def _trajectory_summary(r: TrajectoryReport) -> str:
     return (
         f"{r.topic}: {r.distance_2d_m:.2f} m in {r.duration_s:.2f} s, mean {r.mean_speed_mps or 0:.3f} m/s, "
-        f"max {r.max_speed_mps or 0:.3f} m/s, {len(r.stops)} stops"
+        f"max {r.max_speed_mps or 0:.3f} m/s, {counted(len(r.stops), 'stop')}"
     )
 
 
@@ -44,7 +43,8 @@ def _lidar_summary(r: LidarReport) -> str:
         seen += f", for {first.stays_s:.2f} s"
     elif r.within_m:
         seen = f"; nothing within {r.within_m} m"
-    return f"{r.scans} scans of {r.topic}; closest {r.closest.range_m if r.closest else float('nan'):.3f} m{seen}"
+    nearest = r.closest.range_m if r.closest else float("nan")
+    return f"{counted(r.scans or 0, 'scan')} of {r.topic}; closest {nearest:.3f} m{seen}"
 
 
 def _result(answer: CallToolResult) -> dict[str, Any]:
@@ -65,8 +65,8 @@ class MotionTools(BagTools):
         start: TimeArg | None = None,
         end: TimeArg | None = None,
     ) -> Annotated[CallToolResult, LongAnswer[TrajectoryReport]]:
-        """Summarize a path from odometry, pose, transform or GPS: distance, displacement, mean/max speed,
-        moving vs stopped time, stops, extents, start/end pose, corner waypoints. Example: start=20, end=75."""
+        """A path from odometry, pose, TF or GPS: distance, displacement, mean/max speed, moving/stopped time,
+        stops, extents, start/end pose, waypoints. Example: start=20, end=75."""
         with tool_errors():
             params = params_of(TrajectoryParams, bag=bag, topic=topic, start=start, end=end)
         answer = await self._work.run(
@@ -80,14 +80,14 @@ class MotionTools(BagTools):
         ctx: Context,
         bag: BagRef,
         topic: OptionalTopic = None,
-        time: Annotated[TimeArg | None, Field(description="one scan: the one nearest this time")] = None,
+        time: Annotated[TimeArg | None, Field(description="one scan, nearest this time")] = None,
         start: TimeArg | None = None,
         end: TimeArg | None = None,
-        within: Annotated[float | None, Field(gt=0, description="m: when did anything first come this close")] = None,
+        within: Annotated[float | None, Field(gt=0, description="m: when something first came this close")] = None,
     ) -> Annotated[CallToolResult, LongAnswer[LidarReport]]:
-        """LaserScan/PointCloud2 geometry. With `time`: one scan's valid ranges, closest obstacle and bearing,
-        sectors and free gaps. Otherwise over start..end: per-scan minimum and, with `within`, the first time
-        something came closer. Example: within=0.5."""
+        """LaserScan/PointCloud2. With `time`: one scan's valid ranges, closest obstacle and bearing, sectors,
+        free gaps. Else over start..end: per-scan minimum and, with `within`, when something first came that
+        close. Example: within=0.5."""
         with tool_errors():
             params = params_of(LidarParams, bag=bag, topic=topic, time=time, start=start, end=end, within_m=within)
         answer = await self._work.run(

@@ -28,6 +28,7 @@ from bagmcp_kit.answers import tool_errors
 from bagmcp_kit.arguments import READ_ONLY, BagRef, Offset, TimeArg, TopicName, params_of
 from bagmcp_kit.jobs import LongAnswer
 from bagmcp_kit.toolsets import BagTools, tool
+from bagmcp_shared.wording import counted
 
 Level = Annotated[str | None, Field(description="DEBUG, INFO, WARN, ERROR, FATAL (or number)")]
 Frame = Annotated[str, Field(description="TF frame id")]
@@ -35,7 +36,7 @@ Frame = Annotated[str, Field(description="TF frame id")]
 
 def _log_summary(r: LogReport) -> str:
     levels = ", ".join(f"{n} {c}" for n, c in (r.summary.by_level.items() if r.summary else []) if c)
-    return f"{r.total} log records match ({levels or 'none'}); showing {r.returned}"
+    return f"{counted(r.total, 'log record')} match ({levels or 'none'}); showing {r.returned}"
 
 
 def _transform_summary(r: TransformReport) -> str:
@@ -88,15 +89,15 @@ class RecordTools(BagTools):
     async def get_tf_tree(
         self, ctx: Context, bag: BagRef, time: Annotated[TimeArg | None, Field(description="default: whole bag")] = None
     ) -> Annotated[CallToolResult, LongAnswer[TfTreeReport]]:
-        """The TF frames and their parent/child edges (static or dynamic, with rates), roots, and frames
-        published under more than one parent. Example: time=10."""
+        """TF frames, their parent/child edges (static or dynamic, with rates), roots, and frames with more than
+        one parent. Example: time=10."""
         with tool_errors():
             params = params_of(TfTreeParams, bag=bag, time=time)
         return await self._work.run(
             ctx,
             TF_TREE,
             params,
-            lambda r: f"{len(r.frames)} frames, roots {', '.join(r.roots)}, {len(r.edges)} edges",
+            lambda r: f"{counted(len(r.frames), 'frame')}, roots {', '.join(r.roots)}, {counted(len(r.edges), 'edge')}",
             small=lambda p: tf_is_small(self._access, p.bag),
         )
 

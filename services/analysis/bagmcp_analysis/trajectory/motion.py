@@ -5,6 +5,10 @@ max(0.05 s, 2 x median positive step), so messages that share (nearly) one log t
 speeds. Windows start at a sample and end at the first sample at least one window later; the short remainder
 at the end of the track counts towards the time of the last window but not towards its speed (its poses may
 share one stamp). Stamps that go backwards are replaced by the running maximum (they add no elapsed time).
+
+On log time (a track without usable header stamps) a window's time base is at least its number of steps x the
+median step: a recorder that stalls for 0.235 s and then writes the stalled messages in a burst would otherwise
+put 0.235 s of motion into a few milliseconds (the nav2 TurtleBot's 1.5 m/s "peak" of a robot capped at 0.5).
 """
 
 from __future__ import annotations
@@ -45,6 +49,7 @@ class Motion:
     stationary: list[StationaryRun]
     repeated_stamps: int  # steps of at most 1 % of the window (exact or near repeats)
     backwards_stamps: int
+    bursts: int = 0  # windows on log time whose time base was their message count (see module doc)
 
     @property
     def duration_s(self) -> float:
@@ -62,7 +67,8 @@ def analyse_motion(track: Track, *, stop_speed_mps: float, turn_rate_rps: float)
     if span_ends.size:
         span_ends[-1] = track.t_ns.size - 1
     elapsed_s = (mono_ns[span_ends] - mono_ns[starts]).astype(np.float64) * 1e-9
-    measured_s = (mono_ns[ends] - mono_ns[starts]).astype(np.float64) * 1e-9
+    raw_s = (mono_ns[ends] - mono_ns[starts]).astype(np.float64) * 1e-9
+    measured_s = _time_base_s(track, mono_ns, starts, ends, raw_s)
     chord_m = np.hypot(track.x[ends] - track.x[starts], track.y[ends] - track.y[starts])
     speed = chord_m / measured_s if starts.size else np.zeros(0)
     unwrapped = _unwrapped_yaw(track.yaw)
@@ -82,7 +88,24 @@ def analyse_motion(track: Track, *, stop_speed_mps: float, turn_rate_rps: float)
         stationary=_stationary_runs(starts, span_ends, stationary_mask, unwrapped),
         repeated_stamps=repeated,
         backwards_stamps=backwards,
+        bursts=int((measured_s > raw_s + 1e-9).sum()),
     )
+
+
+def _time_base_s(
+    track: Track,
+    mono_ns: npt.NDArray[np.int64],
+    starts: npt.NDArray[np.int64],
+    ends: npt.NDArray[np.int64],
+    elapsed: npt.NDArray[np.float64],
+) -> npt.NDArray[np.float64]:
+    """Seconds each window's speed divides by: its elapsed time, and on log time at least steps x median step."""
+    steps = np.diff(mono_ns)
+    positive = steps[steps > 0]
+    if not track.log_time or positive.size == 0:
+        return elapsed
+    median_s = float(np.median(positive)) * 1e-9
+    return np.maximum(elapsed, (ends - starts).astype(np.float64) * median_s)
 
 
 def _stamp_anomalies(t_ns: npt.NDArray[np.int64], window_ns: int | None) -> tuple[int, int]:

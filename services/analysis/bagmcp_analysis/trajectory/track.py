@@ -68,7 +68,7 @@ def track_from_fixes(
     return track_of_fixes(stamps[metres.kept], metres)
 
 
-def track_of_fixes(stamps_ns: npt.NDArray[np.int64], metres: LocalMetres) -> Track:
+def track_of_fixes(stamps_ns: npt.NDArray[np.int64], metres: LocalMetres, *, log_time: bool = False) -> Track:
     """The track of valid fixes already in local metres, on ``stamps_ns`` (one per valid fix)."""
     return Track(
         t_ns=stamps_ns,
@@ -76,6 +76,7 @@ def track_of_fixes(stamps_ns: npt.NDArray[np.int64], metres: LocalMetres) -> Tra
         y=metres.north_m,
         z=metres.up_m,
         yaw=np.full(stamps_ns.shape, np.nan),
+        log_time=log_time,
     )
 
 
@@ -161,6 +162,11 @@ def _notes(track: Track, motion: Motion, z_known: bool) -> list[str]:
         notes.append(
             f"{motion.repeated_stamps} of {steps} time steps repeat the previous stamp (within 1 % of the speed "
             f"window) and {motion.backwards_stamps} go backwards{window}."
+        )
+    if motion.bursts:
+        notes.append(
+            f"Log times bunch up after stalls in {motion.bursts} speed windows, so those speeds count time as "
+            "messages x the median period."
         )
     if steps and not np.isfinite(track.yaw).any():
         notes.append("Heading is unknown, so rotation in place and stop-turn corners cannot be detected.")

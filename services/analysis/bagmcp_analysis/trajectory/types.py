@@ -16,7 +16,9 @@ WaypointReason = Literal["start", "corner", "stop", "end"]
 class Track:
     """Poses in message order (time order of the chosen clock); metres in a local frame (REP 103).
 
-    `yaw` is in radians, NaN where unknown; `z` may be NaN where the altitude is unknown.
+    `yaw` is in radians, NaN where unknown; `z` may be NaN where the altitude is unknown. `log_time` says the
+    stamps are arrival (log) times rather than the sensor's own: a recorder that stalls then writes a burst puts
+    the motion of the stall into the burst, so speeds count time by messages there (see motion.py).
     """
 
     t_ns: npt.NDArray[np.int64]
@@ -24,6 +26,7 @@ class Track:
     y: npt.NDArray[np.float64]
     z: npt.NDArray[np.float64]
     yaw: npt.NDArray[np.float64]
+    log_time: bool = False
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "t_ns", np.asarray(self.t_ns, dtype=np.int64))

@@ -6,6 +6,7 @@ import contextlib
 import json
 import logging
 import time
+from collections.abc import Iterator
 from pathlib import Path
 
 from bagmcp_bag_store.ingest.content import Hashed, content_id, quick_content_id
@@ -92,6 +93,29 @@ def _record(root: Path, bag: Path) -> BagRecord:
     )
 
 
+def twin_names(record: BagRecord, bag: Path) -> Iterator[str]:
+    """Names for a bag, in the order they are tried: its own, then (another bag has it) with its format, then
+    with its folder, then numbered. ``rosbag2_talker`` in ros2_db3/ and ros2_mcap/ become ``rosbag2_talker`` and
+    ``rosbag2_talker_mcap``: a person reads "the MCAP copy", not a range as in ``rosbag2_talker-2``."""
+    yield record.name
+    kinds = [Path(f).suffix.lstrip(".") for f in record.files if f != "metadata.yaml"]
+    if kinds and kinds[0]:
+        yield f"{record.name}_{kinds[0]}"
+    yield f"{record.name}_{sanitize_name(bag.parent.name)}"
+    for n in range(2, 100):
+        yield f"{record.name}_copy{n}"
+
+
+def _claim_name(catalog: Catalog, record: BagRecord, bag: Path) -> str:
+    for name in twin_names(record, bag):
+        try:
+            catalog.claim_name(name, record.id)
+            return name
+        except NameTakenError:
+            continue
+    raise NameTakenError(f"{bag.name}: a hundred bags have its name already; rename it")
+
+
 def catalog_folder(catalog: Catalog, root: Path) -> list[str]:
     """Add every readable-looking bag under ``root`` at once (no bag is read through); returns the ids to
     ingest, smallest bag first, so small bags are usable while large ones are still being hashed."""
@@ -101,14 +125,7 @@ def catalog_folder(catalog: Catalog, root: Path) -> list[str]:
             record = _record(root, bag)
             if catalog.get(record.id) is not None:
                 continue
-            name = record.name
-            for n in range(2, 100):
-                try:
-                    catalog.claim_name(name, record.id)
-                    break
-                except NameTakenError:
-                    name = f"{record.name}-{n}"
-            catalog.add(record.model_copy(update={"name": name}))
+            catalog.add(record.model_copy(update={"name": _claim_name(catalog, record, bag)}))
             if record.status == "ingesting":
                 queued.append((record.size_bytes, record.id))
         except (BagmcpError, OSError) as err:

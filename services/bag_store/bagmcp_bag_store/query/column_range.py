@@ -10,6 +10,7 @@ import math
 import numpy as np
 import numpy.typing as npt
 
+from bagmcp_bag_store.query.messages import time_base
 from bagmcp_bag_store.results import MessageRange
 from bagmcp_shared.access import BagAccess
 from bagmcp_shared.errors import ArgumentError
@@ -80,10 +81,15 @@ def messages_as_columns(
     every: int,
     max_points: int,
     budget_bytes: int,
+    asked_messages: bool = False,
 ) -> MessageRange:
+    """``asked_messages``: the caller passed max_points with layout=messages, which only columns can honour,
+    so the answer comes in columns and says so (or the error says how to thin whole messages instead)."""
+    why = "max_points (it thins numeric fields, in layout=columns)" if asked_messages else "layout=columns"
     if not fields:
         raise ArgumentError(
-            "layout=columns needs `fields`: the numeric message paths to return, e.g. ['twist.twist.linear.x']"
+            f"{why} needs `fields`: the numeric message paths to return, e.g. ['twist.twist.linear.x']"
+            + ("; to thin whole messages, pass every=N instead" if asked_messages else "")
         )
     with access.open(bag) as ob:
         name = ob.topic_name(topic)
@@ -97,10 +103,14 @@ def messages_as_columns(
         try:
             arrays = [series.columns[p].astype(np.float64)[::every] for p in paths]
         except (TypeError, ValueError) as err:
-            raise ArgumentError(f"layout=columns takes numeric fields only ({err}); use layout=messages") from err
+            raise ArgumentError(
+                f"{why} takes numeric fields only ({err}); use layout=messages"
+                + (" with every=N to thin" if asked_messages else "")
+            ) from err
         times = series.t_ns[::every]
         chosen = keep_extremes(arrays, max_points)
-        notes: list[str] = []
+        said = ["max_points thins numeric fields, so this answer is in layout=columns"] if asked_messages else []
+        notes = said
         while True:
             t = [_seconds(int(times[i]) - ob.start_ns) for i in chosen]
             columns = {p: [_number(float(a[i])) for i in chosen] for p, a in zip(paths, arrays, strict=True)}
@@ -108,13 +118,15 @@ def messages_as_columns(
             if size <= budget_bytes or len(chosen) <= 2:
                 break
             chosen = keep_extremes(arrays, max(int(len(chosen) * budget_bytes / size * 0.97), 2))
-            notes = [f"thinned to {len(chosen)} points to fit {budget_bytes} bytes; narrow the window for more"]
+            fitted = f"thinned to {len(chosen)} points to fit {budget_bytes} bytes; narrow the window for more"
+            notes = [*said, fitted]
         return MessageRange(
             bag=ob.name,
             topic=name,
             start=ob.instant(lo),
             end=ob.instant(hi),
             clock="log_time",
+            time_base=time_base(ob),
             total=len(series.t_ns),
             returned=len(t),
             truncated=False,

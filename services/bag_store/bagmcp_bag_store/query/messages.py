@@ -7,14 +7,14 @@ from dataclasses import dataclass
 import numpy as np
 from pydantic import JsonValue
 
-from bagmcp_bag_store.results import MessageAtTime, MessageOut, MessageRange
+from bagmcp_bag_store.results import MessageAtTime, MessageOut, MessageRange, RangeMessage
 from bagmcp_shared.access import BagAccess, OpenBag
 from bagmcp_shared.bags import RawMessage
 from bagmcp_shared.errors import ArgumentError
 from bagmcp_shared.index import ColumnIndex
 from bagmcp_shared.jsonify import fit
 from bagmcp_shared.paths import Step, check_steps, extract, format_steps, parse_field_path
-from bagmcp_shared.timebase import TimeInput, header_stamp_ns
+from bagmcp_shared.timebase import TimeInput, header_stamp_ns, iso_from_ns
 
 
 def message_out(bag: OpenBag, raw: RawMessage, projection: list[tuple[Step, ...]], budget: int) -> MessageOut:
@@ -24,6 +24,18 @@ def message_out(bag: OpenBag, raw: RawMessage, projection: list[tuple[Step, ...]
     header = header_stamp_ns(msg)
     data: JsonValue = fit(shown, budget)
     return MessageOut(time=bag.instant(raw.log_time_ns), header_stamp_s=header / 1e9 if header else None, data=data)
+
+
+def time_base(bag: OpenBag) -> str:
+    """The one statement of what a range's offsets count from, so each message carries only its offset."""
+    return f"log time, s from the bag start {iso_from_ns(bag.start_ns)} (epoch {bag.start_ns / 1e9:.6f} s)"
+
+
+def range_message(bag: OpenBag, raw: RawMessage, projection: list[tuple[Step, ...]], budget: int) -> RangeMessage:
+    """One message of a range: its offset and data (header stamps are in the data, where asked for)."""
+    msg = bag.reader.decode(raw)
+    shown: object = {format_steps(p): extract(msg, p) for p in projection} if projection else msg
+    return RangeMessage(offset_s=round((raw.log_time_ns - bag.start_ns) / 1e9, 9), data=fit(shown, budget))
 
 
 def projection(bag: OpenBag, topic: str, fields: list[str] | None) -> list[tuple[Step, ...]]:
@@ -97,19 +109,19 @@ class _Limits:
 
 def _page(
     ob: OpenBag, topic: str, steps: list[tuple[Step, ...]], first: Cursor, hi: int, limits: _Limits
-) -> tuple[list[MessageOut], Cursor | None]:
+) -> tuple[list[RangeMessage], Cursor | None]:
     """Messages from ``first`` up to ``hi`` within the limits (every ``every``-th message of the window).
 
     Returns the page and where the next one starts (None at the end of the window).
     """
-    out: list[MessageOut] = []
+    out: list[RangeMessage] = []
     used = 0
     run_ts, run = -1, 0
     position = first.position
     for index, raw in enumerate(ob.reader.messages([topic], start_ns=first.stamp_ns, stop_ns=hi + 1)):
         if index >= first.skip:
             if position % limits.every == 0:
-                item = message_out(ob, raw, steps, limits.budget_bytes)
+                item = range_message(ob, raw, steps, limits.budget_bytes)
                 size = len(item.model_dump_json())
                 if len(out) >= limits.max_messages or (out and used + size > limits.budget_bytes):
                     skip = run if run_ts == raw.log_time_ns else 0
@@ -151,6 +163,7 @@ def get_messages_in_range(
             start=ob.instant(lo),
             end=ob.instant(hi),
             clock="log_time",
+            time_base=time_base(ob),
             total=first.total,
             returned=len(out),
             truncated=following is not None,

@@ -7,6 +7,7 @@ from mcp.server.mcpserver import MCPServer
 from bagmcp_bag_store.tools.catalog_tools import CatalogTools
 from bagmcp_bag_store.tools.message_tools import MessageTools
 from bagmcp_bag_store.tools.search_tools import SearchTools
+from bagmcp_kit.ingest_wait import IngestWait
 from bagmcp_kit.longwork import LongWork
 from bagmcp_kit.server import Guard, new_server
 from bagmcp_shared.access import BagAccess
@@ -20,4 +21,5 @@ def build_server(access: BagAccess, work: LongWork, *, budget_bytes: int, guard:
         MessageTools(access, budget_bytes=budget_bytes),
         SearchTools(access, work),
     ]
-    return new_server("bagmcp-bag-store", purpose=PURPOSE, tools=tools, guard=guard)
+    ingest = IngestWait(access.catalog, work.budget_s)
+    return new_server("bagmcp-bag-store", purpose=PURPOSE, tools=tools, guard=guard, ingest=ingest)

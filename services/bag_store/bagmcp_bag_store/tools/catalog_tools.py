@@ -13,6 +13,7 @@ from bagmcp_kit.answers import run_query
 from bagmcp_kit.arguments import READ_ONLY, BagRef, Offset, TopicName
 from bagmcp_kit.toolsets import tool
 from bagmcp_shared.access import BagAccess
+from bagmcp_shared.wording import counted
 
 
 class CatalogTools:
@@ -24,21 +25,21 @@ class CatalogTools:
     def list_bags(
         self,
         name: Annotated[str | None, Field(description="part of the name")] = None,
-        tag: Annotated[str | None, Field(description="only bags with this tag")] = None,
+        tag: Annotated[str | None, Field(description="with this tag")] = None,
         offset: Offset = 0,
         limit: Annotated[int, Field(ge=1, le=500, description="page size")] = 50,
     ) -> Annotated[CallToolResult, BagList]:
-        """The bags in the store with status (ready, ingesting, or failed and why), format, duration and
-        counts. Call this first. Example: name="husky"."""
+        """Bags in the store: status (ready, ingesting, or failed and why), format, duration, counts. Call this
+        first. Example: name="husky"."""
         return run_query(
             lambda: catalog_queries.list_bags(self._access.catalog, name=name, tag=tag, offset=offset, limit=limit),
-            lambda r: f"{r.total} bags; showing {len(r.bags)} from {r.offset}",
+            lambda r: f"{counted(r.total, 'bag')}; showing {len(r.bags)} from {r.offset}",
         )
 
     @tool(READ_ONLY)
     def bag_info(self, bag: BagRef) -> Annotated[CallToolResult, BagInfo]:
-        """One bag's format, size, start/end, duration and every topic with type, count and rate (odd rates
-        explained). Example: bag="run1"."""
+        """One bag: format, size, start/end, duration, each topic's type, count and rate (odd rates explained).
+        Example: bag="run1"."""
         return run_query(
             lambda: catalog_queries.bag_info(self._access.catalog, bag),
             lambda r: f"{r.name}: {r.message_count} messages on {len(r.topics)} topics over {r.duration_s:.3f} s",

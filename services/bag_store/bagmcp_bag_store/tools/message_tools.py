@@ -15,6 +15,8 @@ from bagmcp_kit.arguments import READ_ONLY, BagRef, Fields, TimeArg, TopicName
 from bagmcp_kit.toolsets import tool
 from bagmcp_shared.access import BagAccess
 
+DEFAULT_POINTS = 1000
+
 
 class MessageTools:
     def __init__(self, access: BagAccess, *, budget_bytes: int) -> None:
@@ -44,11 +46,14 @@ class MessageTools:
         cursor: Annotated[str | None, Field(description="next_cursor of the previous page")] = None,
         every: Annotated[int, Field(ge=1, description="keep every n-th message")] = 1,
         layout: Literal["messages", "columns"] = "messages",
-        max_points: Annotated[int, Field(ge=2, le=5000, description="columns: thin to this, keeping extremes")] = 1000,
+        max_points: Annotated[
+            int | None, Field(ge=2, le=5000, description="thin numeric fields to this, extremes kept (columns)")
+        ] = None,
     ) -> Annotated[CallToolResult, MessageRange]:
         """Messages of a topic in a window, oldest first, in pages (next_cursor); layout=columns gives
-        compact arrays of numeric `fields`. Example: topic="/odom", layout="columns"."""
-        if layout == "columns":
+        compact arrays of numeric `fields` (max_points with fields implies it). Example: topic="/odom",
+        layout="columns"."""
+        if layout == "columns" or max_points is not None:
             return run_query(
                 lambda: messages_as_columns(
                     self._access,
@@ -58,8 +63,9 @@ class MessageTools:
                     end,
                     fields or [],
                     every=every,
-                    max_points=max_points,
+                    max_points=max_points or DEFAULT_POINTS,
                     budget_bytes=self._budget,
+                    asked_messages=layout == "messages",
                 ),
                 lambda r: (
                     f"{r.returned} points of {r.total} messages of {r.topic}"

@@ -26,6 +26,13 @@ ConditionValue = Annotated[
 
 def _search_summary(result: SearchResult) -> str:
     closest = f"; closest approach {result.closest.distance_m:.3f} m" if result.closest else ""
+    if result.condition in ("max", "min") and result.matches:
+        peak = result.matches[0]
+        value = f"{peak.value:.6g}" if isinstance(peak.value, float) else str(peak.value)
+        return (
+            f"{result.condition} {result.field} = {value} first at {peak.time.offset_s:.3f} s; "
+            f"{result.total} of {result.scanned} messages have it"
+        )
     return f"{result.total} of {result.scanned} messages match{closest}"
 
 
@@ -48,10 +55,10 @@ class SearchTools(BagTools):
         start: TimeArg | None = None,
         end: TimeArg | None = None,
         limit: Annotated[int, Field(ge=1, le=200, description="matches to show")] = 20,
-        correlate_topic: Annotated[str | None, Field(description="add its nearest message to matches")] = None,
+        correlate_topic: Annotated[str | None, Field(description="add its nearest message (or /topic.path)")] = None,
         correlate_tolerance_s: Annotated[float, Field(gt=0, le=60, description="max time apart")] = 0.1,
     ) -> Annotated[CallToolResult, LongAnswer[SearchResult]]:
-        """Find messages meeting a condition: count, first matches (max/min: where a field peaks),
+        """Messages meeting a condition: count, first matches (max/min: where a field peaks),
         closest approach for near_position. Example: topic=/odom, condition=near_position,
         value={"x":1,"y":-2,"radius":0.5}."""
         with tool_errors():
@@ -83,8 +90,8 @@ class SearchTools(BagTools):
         rates: Annotated[dict[str, float] | None, Field(description="max Hz per topic, e.g. {'/scan': 2}")] = None,
         format: Annotated[Format | None, Field(description="default: the source's")] = None,
     ) -> Annotated[CallToolResult, LongAnswer[FilterResult]]:
-        """Write a new bag with some topics, a time window and/or rate limits, and store it under `name`.
-        The same request twice gives the same bag. Example: include_topics=["/cmd_vel", "/odom"]."""
+        """A new bag from some topics, a time window and/or rate limits, stored under `name` (the same request
+        gives the same bag; needs the upload scope). Example: include_topics=["/cmd_vel", "/odom"]."""
         with tool_errors():
             params = params_of(
                 FilterParams,

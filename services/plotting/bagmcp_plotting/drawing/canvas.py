@@ -14,11 +14,13 @@ from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 from PIL import Image
 
+from bagmcp_plotting.drawing.fitting import fit_title
+
 WIDTH_IN = 10.0
 HEIGHT_IN = 6.0
 DPI = 100
 TITLE_SIZE = 15
-TITLE_CHARS = 100  # a longer title wraps onto more lines
+TITLE_CHARS = 100  # a longer title wraps onto more lines (fewer where they are wide: fitting.py)
 LABEL_SIZE = 13
 TICK_SIZE = 11
 LEGEND_SIZE = 11
@@ -43,6 +45,7 @@ def new_figure(*, title: str, width_in: float = WIDTH_IN, height_in: float = HEI
     figure = Figure(figsize=(width_in, height_in), dpi=DPI, layout="constrained")
     FigureCanvasAgg(figure)
     figure.suptitle(textwrap.fill(title, width=TITLE_CHARS), fontsize=TITLE_SIZE)
+    fit_title(figure, title)
     return figure
 
 

@@ -14,6 +14,7 @@ from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 
 from bagmcp_plotting.drawing.canvas import HEIGHT_IN, LEGEND_SIZE, PALETTE, axis_label, new_figure, style_axes, to_png
+from bagmcp_plotting.drawing.fitting import add_legend
 from bagmcp_plotting.drawing.layout import Layout, group_indices, layout_for
 from bagmcp_plotting.drawing.lines import Line, plot_points, scatter_points
 
@@ -26,6 +27,11 @@ DEFAULT_X_LABEL = "time from bag start [s]"
 
 def render_timeseries(lines: Sequence[Line], *, style: Style, title: str, x_label: str = DEFAULT_X_LABEL) -> bytes:
     """PNG of the lines against time; axes chosen by layout_for (same unit shares an axis)."""
+    return to_png(draw_timeseries(lines, style=style, title=title, x_label=x_label))
+
+
+def draw_timeseries(lines: Sequence[Line], *, style: Style, title: str, x_label: str = DEFAULT_X_LABEL) -> Figure:
+    """The figure of render_timeseries."""
     if not lines:
         raise ValueError("There is no series to plot; pass at least one line.")
     if style not in ("line", "step", "scatter"):
@@ -55,11 +61,16 @@ def render_timeseries(lines: Sequence[Line], *, style: Style, title: str, x_labe
         if layout == "twin" and len(group) == 1:
             _match_axis_colour(axes, _color(group[0]))
     _legend(figure, [handles[index] for index in sorted(handles)])
-    return to_png(figure)
+    return figure
 
 
 def render_overlay(lines: Sequence[Line], *, title: str, y_label: str, x_label: str) -> bytes:
     """PNG of up to 6 runs of one quantity on one axis, one tab10 colour per run, legend with the labels."""
+    return to_png(draw_overlay(lines, title=title, y_label=y_label, x_label=x_label))
+
+
+def draw_overlay(lines: Sequence[Line], *, title: str, y_label: str, x_label: str) -> Figure:
+    """The figure of render_overlay."""
     if not lines:
         raise ValueError("There is no run to overlay; pass at least one line.")
     if len(lines) > MAX_OVERLAY_RUNS:
@@ -69,7 +80,7 @@ def render_overlay(lines: Sequence[Line], *, title: str, y_label: str, x_label: 
     handles = [(_draw(axes, line, style="line", color=_color(i)), line.label) for i, line in enumerate(lines)]
     style_axes(axes, x_label=x_label, y_label=y_label)
     _legend(figure, handles)
-    return to_png(figure)
+    return figure
 
 
 def _color(index: int) -> str:
@@ -119,14 +130,9 @@ def _make_axes(figure: Figure, *, layout: Layout, panels: int) -> list[Axes]:
 
 
 def _legend(figure: Figure, entries: list[tuple[Artist, str]]) -> None:
-    """One legend below the plot naming every line, in the order the lines were given."""
-    figure.legend(
-        [artist for artist, _ in entries],
-        [label for _, label in entries],
-        loc="outside lower center",
-        ncols=min(len(entries), 4 if len(entries) <= 8 else 6),
-        fontsize=LEGEND_SIZE,
-    )
+    """One legend below the plot naming every line, in the order the lines were given, inside the figure."""
+    columns = min(len(entries), 4 if len(entries) <= 8 else 6)
+    add_legend(figure, entries, loc="outside lower center", columns=columns, fontsize=LEGEND_SIZE)
 
 
 def _stacked_height_in(panels: int) -> float:

@@ -4,9 +4,11 @@ from __future__ import annotations
 
 import numpy as np
 import numpy.typing as npt
+from matplotlib.figure import Figure
 
 from bagmcp_plotting.drawing.canvas import LABEL_SIZE, LEGEND_SIZE, PALETTE, new_figure, style_axes, to_png
 from bagmcp_plotting.drawing.decimate import extreme_indices
+from bagmcp_plotting.drawing.fitting import add_legend
 
 MAX_POINTS = 10_000
 TIME_LABEL = "time from bag start [s]"
@@ -27,6 +29,34 @@ def render_xy(
     mark_ends: bool,
 ) -> bytes:
     """PNG of a path; start = green circle, end = red square; colour by t_s with a colorbar when asked."""
+    return to_png(
+        draw_xy(
+            x=x,
+            y=y,
+            t_s=t_s,
+            x_label=x_label,
+            y_label=y_label,
+            title=title,
+            equal_aspect=equal_aspect,
+            color_by_time=color_by_time,
+            mark_ends=mark_ends,
+        )
+    )
+
+
+def draw_xy(
+    *,
+    x: npt.NDArray[np.float64],
+    y: npt.NDArray[np.float64],
+    t_s: npt.NDArray[np.float64] | None = None,
+    x_label: str,
+    y_label: str,
+    title: str,
+    equal_aspect: bool,
+    color_by_time: bool,
+    mark_ends: bool,
+) -> Figure:
+    """The figure of render_xy."""
     x = np.asarray(x, dtype=np.float64)
     y = np.asarray(y, dtype=np.float64)
     if x.shape != y.shape or x.ndim != 1:
@@ -54,5 +84,8 @@ def render_xy(
     if equal_aspect:
         axes.set_aspect("equal", adjustable="datalim")
     style_axes(axes, x_label=x_label, y_label=y_label)
-    figure.legend(loc="outside lower center", ncols=3, fontsize=LEGEND_SIZE)
-    return to_png(figure)
+    handles, labels = axes.get_legend_handles_labels()
+    add_legend(
+        figure, list(zip(handles, labels, strict=True)), loc="outside lower center", columns=3, fontsize=LEGEND_SIZE
+    )
+    return figure

@@ -5,6 +5,7 @@ from __future__ import annotations
 from mcp.server.mcpserver import MCPServer
 from mcp.server.mcpserver.exceptions import ResourceNotFoundError
 
+from bagmcp_kit.ingest_wait import IngestWait
 from bagmcp_kit.longwork import LongWork
 from bagmcp_kit.server import Guard, new_server
 from bagmcp_plotting.artifacts import ARTIFACT_URI, Artifacts
@@ -19,7 +20,9 @@ PURPOSE = (
 
 
 def build_server(access: BagAccess, work: LongWork, artifacts: Artifacts, *, guard: Guard | None = None) -> MCPServer:
-    server = new_server("bagmcp-plotting", purpose=PURPOSE, tools=[PlotTools(access, work, artifacts)], guard=guard)
+    ingest = IngestWait(access.catalog, work.budget_s)
+    tools = [PlotTools(access, work, artifacts)]
+    server = new_server("bagmcp-plotting", purpose=PURPOSE, tools=tools, guard=guard, ingest=ingest)
     _artifact_resource(server, artifacts)
     return server
 

@@ -15,7 +15,7 @@ from mcp.types import CallToolResult, ContentBlock, ImageContent, ResourceLink, 
 from pydantic import BaseModel, Field
 
 from bagmcp_kit.answers import tool_errors
-from bagmcp_kit.arguments import READ_ONLY, BagRef, TimeArg, params_of
+from bagmcp_kit.arguments import READ_ONLY, BagRef, OptionalTopic, TimeArg, params_of
 from bagmcp_kit.jobs import LongAnswer
 from bagmcp_kit.longwork import LongWork
 from bagmcp_kit.toolsets import BagTools, tool
@@ -42,7 +42,7 @@ from bagmcp_shared.jobs import JobKind
 from bagmcp_shared.topics import choose_pose_topic
 
 P = TypeVar("P", bound=BaseModel)
-Path = Annotated[str, Field(description="message path, e.g. /odom.twist.twist.linear.x")]
+Path = Annotated[str, Field(description="e.g. /odom.twist.twist.linear.x")]
 Answer = Annotated[CallToolResult, LongAnswer[PlotReport]]
 
 
@@ -125,7 +125,7 @@ class PlotTools(BagTools):
         style: Literal["line", "step", "scatter"] = "line",
         title: Annotated[str | None, Field(description="default: the paths and window")] = None,
     ) -> Answer:
-        """Plot message paths over time (s from bag start); different scales get a second axis or panels.
+        """Message paths over time (s from bag start); different scales get a second axis or panels.
         Example: paths=["/cmd_vel.linear.x", "/odom.twist.twist.linear.x"]."""
         with tool_errors():
             params = params_of(TimeseriesParams, bag=bag, paths=paths, start=start, end=end, style=style, title=title)
@@ -138,15 +138,15 @@ class PlotTools(BagTools):
         self,
         ctx: Context,
         bag: BagRef,
-        x: Annotated[str | None, Field(description="message path for x")] = None,
-        y: Annotated[str | None, Field(description="message path for y (same topic as x)")] = None,
-        topic: Annotated[str | None, Field(description="pose topic (default: the obvious one)")] = None,
+        x: Annotated[str | None, Field(description="message path")] = None,
+        y: Annotated[str | None, Field(description="path on x's topic")] = None,
+        topic: OptionalTopic = None,
         start: TimeArg | None = None,
         end: TimeArg | None = None,
         color_by_time: bool = False,
     ) -> Answer:
         """XY plot of two fields; without x and y, the trajectory of a pose topic in metres (GPS: east/north),
-        equal aspect, start and end marked. Example: color_by_time=true."""
+        equal aspect, start and end marked. Example: topic="/odom"."""
         with tool_errors():
             params = params_of(
                 XYParams, bag=bag, x=x, y=y, topic=topic, start=start, end=end, color_by_time=color_by_time
@@ -165,10 +165,10 @@ class PlotTools(BagTools):
         ctx: Context,
         bag: BagRef,
         time: TimeArg,
-        topic: Annotated[str | None, Field(description="LaserScan topic (default: the obvious one)")] = None,
+        topic: OptionalTopic = None,
         within: Annotated[float | None, Field(gt=0, description="m: draw this circle")] = None,
     ) -> Answer:
-        """Polar plot of the scan nearest a time: robot at the centre, forward up, invalid ranges left out.
+        """Polar plot of the scan nearest a time: robot at the centre, forward up, invalid ranges out.
         Example: time=12.5, within=0.5."""
         with tool_errors():
             params = params_of(ScanPlotParams, bag=bag, topic=topic, time=time, within_m=within)

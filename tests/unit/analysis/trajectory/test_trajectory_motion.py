@@ -100,3 +100,30 @@ def test_unknown_heading_only_uses_linear_speed() -> None:
     track = Track(t_ns=base.t_ns, x=base.x, y=base.y, z=base.z, yaw=np.full(base.x.size, math.nan))
     summary = summarize_track(track)
     assert summary.stopped_s == pytest.approx(2.0)
+
+
+def _stall_then_burst(*, log_time: bool) -> Track:
+    """0.5 m/s along x at 20 Hz for 10 s; on log time the recorder stalls 0.25 s at 5 s, then writes the five
+    stalled messages within 2 ms (the nav2 TurtleBot's /odom in log time)."""
+    sample = np.arange(201)
+    stamps = sample * 50_000_000
+    stalled = (sample > 100) & (sample <= 105)
+    stamps[stalled] = 105 * 50_000_000 + (sample[stalled] - 101) * 400_000
+    return Track(
+        t_ns=stamps,
+        x=sample.astype(np.float64) * 0.025,
+        y=np.zeros(201),
+        z=np.zeros(201),
+        yaw=np.zeros(201),
+        log_time=log_time,
+    )
+
+
+def test_a_stall_then_a_burst_on_log_time_is_not_a_speed_peak() -> None:
+    summary = summarize_track(_stall_then_burst(log_time=True))
+    assert summary.max_speed_mps == pytest.approx(0.5, rel=0.02)
+    assert any("bunch up after stalls" in note for note in summary.notes)
+
+
+def test_the_same_stamps_taken_as_sensor_stamps_keep_their_meaning() -> None:
+    assert summarize_track(_stall_then_burst(log_time=False)).max_speed_mps > 1.0  # type: ignore[operator]
