@@ -114,6 +114,7 @@ def test_the_harder_tasks_pass_with_images_sent_as_images_on_the_anthropic_wire(
     assert calls == ["list_bags"] + ["bag_info"] * (len(calls) - 1)
     assert len(calls) >= 4
     sent = [r.body for r in model.received[before:] if r.wire == "anthropic"]
+    assert all("The MCP server's instructions:\n" in body["system"] for body in sent)  # as MCP hosts pass them
     images = [
         block
         for body in sent

@@ -11,7 +11,7 @@ import anthropic
 from mcp.types import Tool
 
 from bagmcp_lab.errors import ProviderError
-from bagmcp_lab.providers.conversation import SYSTEM_PROMPT, ModelReply, ProposedCall, refusal
+from bagmcp_lab.providers.conversation import ModelReply, ProposedCall, refusal, system_prompt
 from bagmcp_lab.toolbox import ToolAnswer
 
 MAX_OUTPUT_TOKENS = 4096
@@ -36,13 +36,14 @@ class AnthropicConversation:
     model: str
     tools: list[dict[str, Any]]
     messages: list[dict[str, Any]] = field(default_factory=list)
+    system: str = ""
 
     async def reply(self) -> ModelReply:
         try:
             response = await self.client.messages.create(
                 model=self.model,
                 max_tokens=MAX_OUTPUT_TOKENS,
-                system=SYSTEM_PROMPT,
+                system=self.system,
                 messages=self.messages,  # type: ignore[arg-type]
                 tools=self.tools,  # type: ignore[arg-type]
             )
@@ -66,9 +67,15 @@ class AnthropicConversation:
 
 
 def anthropic_conversation(
-    *, model: str, api_key: str, base_url: str | None, tools: Sequence[Tool], history: Sequence[tuple[str, str]]
+    *,
+    model: str,
+    api_key: str,
+    base_url: str | None,
+    tools: Sequence[Tool],
+    history: Sequence[tuple[str, str]],
+    instructions: str | None = None,
 ) -> AnthropicConversation:
     """``history``: (role, text) pairs of an earlier chat, the last being the user's new question."""
     client = anthropic.AsyncAnthropic(api_key=api_key, base_url=base_url, max_retries=2)
     messages = [{"role": role, "content": text} for role, text in history]
-    return AnthropicConversation(client, model, tool_specs(tools), messages)
+    return AnthropicConversation(client, model, tool_specs(tools), messages, system_prompt(instructions))

@@ -15,6 +15,11 @@ SYSTEM_PROMPT = (
 )
 
 
+def system_prompt(instructions: str | None) -> str:
+    """Ours, then the MCP server's own instructions, as an MCP host (Claude Desktop, Cursor) gives them."""
+    return f"{SYSTEM_PROMPT}\n\nThe MCP server's instructions:\n{instructions}" if instructions else SYSTEM_PROMPT
+
+
 @dataclass(frozen=True)
 class ProposedCall:
     """A tool call the model asked for; ``arguments`` is None when the model sent malformed JSON."""

@@ -50,9 +50,13 @@ def key_from_env(provider: str, env: Mapping[str, str], *, variable: str | None,
 
 
 def open_conversation(
-    choice: ProviderChoice, tools: Sequence[Tool], history: Sequence[tuple[str, str]]
+    choice: ProviderChoice,
+    tools: Sequence[Tool],
+    history: Sequence[tuple[str, str]],
+    *,
+    instructions: str | None = None,
 ) -> Conversation:
-    """A conversation whose last ``history`` entry is the user's question."""
+    """A conversation whose last ``history`` entry is the user's question; ``instructions``: the MCP server's."""
     if choice.provider == "anthropic":
         from bagmcp_lab.providers.anthropic_chat import anthropic_conversation
 

@@ -12,7 +12,13 @@ import openai
 from mcp.types import Tool
 
 from bagmcp_lab.errors import ProviderError
-from bagmcp_lab.providers.conversation import SYSTEM_PROMPT, ModelReply, ProposedCall, parse_arguments, refusal
+from bagmcp_lab.providers.conversation import (
+    ModelReply,
+    ProposedCall,
+    parse_arguments,
+    refusal,
+    system_prompt,
+)
 from bagmcp_lab.toolbox import ToolAnswer
 
 
@@ -89,7 +95,9 @@ def openai_conversation(
     tools: Sequence[Tool],
     history: Sequence[tuple[str, str]],
     images: bool = True,
+    instructions: str | None = None,
 ) -> OpenAIConversation:
     client = openai.AsyncOpenAI(api_key=api_key, base_url=base_url, max_retries=2)
-    messages = [{"role": "system", "content": SYSTEM_PROMPT}, *({"role": r, "content": t} for r, t in history)]
+    system = {"role": "system", "content": system_prompt(instructions)}
+    messages = [system, *({"role": r, "content": t} for r, t in history)]
     return OpenAIConversation(client, model, tool_specs(tools), messages, images)

@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Awaitable, Callable
+from typing import Any
 
 from bagmcp_lab.tasks.bag_probe import LASER, ODOMETRY, TF, TWIST, BagProbe
 from bagmcp_lab.tasks.model import Requirement, Task, number_fact, verdict_fact, word_fact
@@ -16,6 +17,13 @@ Builder = Callable[[ToolBox, BagProbe], Awaitable[Task | str]]
 TIME_TOLERANCE_S = 0.15
 POSITION_TOLERANCE_M = 0.05
 NEAR_RADIUS_M = 0.5
+
+
+def position_of(odometry: dict[str, Any]) -> dict[str, float]:
+    """The position in an odometry message as search_messages shows a correlated one: by flat path
+    (``pose.pose.position``) or nested."""
+    flat = odometry.get("pose.pose.position")
+    return dict(flat) if isinstance(flat, dict) else dict(odometry["pose"]["pose"]["position"])
 
 
 def _on(probe: BagProbe, question: str) -> str:
@@ -169,7 +177,7 @@ async def max_command(box: ToolBox, probe: BagProbe) -> Task | str:
         correlate_topic=odom,
     )
     match = peak["matches"][0]
-    position = match["correlated"]["data"]["pose"]["pose"]["position"]
+    position = position_of(match["correlated"]["data"])
     facts = (
         number_fact("max commanded linear velocity (m/s)", match["value"], tolerance=0.005),
         number_fact("time of the max (s)", match["time"]["offset_s"], tolerance=TIME_TOLERANCE_S),

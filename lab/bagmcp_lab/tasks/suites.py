@@ -42,6 +42,8 @@ async def build_suite(box: ToolBox, bag: str, suite: str) -> Suite:
             task = await builder(box, probe)
         except LabError as err:  # e.g. the token may not call a tool the reference needs
             task = str(err)
+        except (KeyError, IndexError, TypeError, ValueError) as err:  # an answer of another shape than expected
+            task = f"the tools' answers lack what the reference needs ({type(err).__name__}: {err})"
         if isinstance(task, Task):
             built.tasks.append(task)
         else:
