@@ -53,7 +53,7 @@ def record_of(task: Task, plan: BenchmarkPlan, repeat: int, outcome: AgentOutcom
 async def run_task(
     box: ToolBox, task: Task, plan: BenchmarkPlan, repeat: int, watch: Watcher | None = None
 ) -> RunRecord:
-    conversation = open_conversation(plan.choice, box.tools, [("user", task.prompt)])
+    conversation = open_conversation(plan.choice, box.tools, [("user", task.prompt)], instructions=box.instructions)
     if watch is None:
         outcome = await run_agent(conversation, box, max_turns=plan.max_turns)
     else:

@@ -58,6 +58,11 @@ class ToolBox:
     client: Client
     tools: list[Tool] = field(default_factory=list)
 
+    @property
+    def instructions(self) -> str | None:
+        """What the server tells every client (conventions, units), handed to the model as MCP hosts do."""
+        return self.client.instructions
+
     async def call(self, name: str, arguments: dict[str, Any], *, progress: ProgressFnT | None = None) -> ToolAnswer:
         started = time.perf_counter()
         result = await self.client.call_tool(name, arguments, progress_callback=progress)

@@ -61,7 +61,12 @@ def open_conversation(
         from bagmcp_lab.providers.anthropic_chat import anthropic_conversation
 
         return anthropic_conversation(
-            model=choice.model, api_key=choice.api_key, base_url=choice.base_url, tools=tools, history=history
+            model=choice.model,
+            api_key=choice.api_key,
+            base_url=choice.base_url,
+            tools=tools,
+            history=history,
+            instructions=instructions,
         )
     if choice.provider == "openai":
         from bagmcp_lab.providers.openai_chat import openai_conversation
@@ -73,5 +78,6 @@ def open_conversation(
             tools=tools,
             history=history,
             images=choice.images,
+            instructions=instructions,
         )
     raise LabError(f"unknown provider {choice.provider!r}; use one of {', '.join(PROVIDERS)}")

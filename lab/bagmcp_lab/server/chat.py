@@ -49,7 +49,7 @@ async def chat_lines(
                 async with open_toolbox(lab.target.url, token=caller.token, transport=lab.target.transport()) as box:
                     await send.send(_line("tools", {"names": [t.name for t in box.tools]}))
                     history = [(line.role, line.text) for line in request.history] + [("user", request.prompt)]
-                    conversation = open_conversation(choice, box.tools, history)
+                    conversation = open_conversation(choice, box.tools, history, instructions=box.instructions)
                     outcome = await run_agent(conversation, box, max_turns=request.max_turns, watch=watch)
                 done = {
                     "final_answer": outcome.final_answer,
