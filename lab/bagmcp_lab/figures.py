@@ -1,5 +1,5 @@
-"""The paper's figures as PNG: response time per model and tool calls per model (matplotlib, Agg; about 0.2 s
-each)."""
+"""The paper's figures as PNG: response time per model and tool calls per model (matplotlib's object API, no
+pyplot state, so the page's requests may draw them on worker threads; about 0.2 s each)."""
 
 from __future__ import annotations
 
@@ -7,10 +7,7 @@ import io
 from collections.abc import Sequence
 from pathlib import Path
 
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt
+from matplotlib.figure import Figure
 
 from bagmcp_lab.results import RunRecord
 
@@ -20,19 +17,19 @@ FIGURES = (LATENCY_FIGURE, CALLS_FIGURE)
 
 
 def _box(labels: list[str], values: list[list[float]], *, title: str, unit: str) -> bytes:
-    figure, axes = plt.subplots(figsize=(max(4.0, 1.4 * len(labels) + 2), 3.6), dpi=100)
-    try:
-        axes.boxplot(values, tick_labels=labels, showmeans=True)
-        axes.set_title(title)
-        axes.set_ylabel(unit)
-        axes.grid(axis="y", alpha=0.3)
-        plt.setp(axes.get_xticklabels(), rotation=20, ha="right")
-        figure.tight_layout()
-        buffer = io.BytesIO()
-        figure.savefig(buffer, format="png")
-        return buffer.getvalue()
-    finally:
-        plt.close(figure)
+    figure = Figure(figsize=(max(4.0, 1.4 * len(labels) + 2), 3.6), dpi=100)
+    axes = figure.subplots()
+    axes.boxplot(values, tick_labels=labels, showmeans=True)
+    axes.set_title(title)
+    axes.set_ylabel(unit)
+    axes.grid(axis="y", alpha=0.3)
+    for label in axes.get_xticklabels():
+        label.set_rotation(20)
+        label.set_horizontalalignment("right")
+    figure.tight_layout()
+    buffer = io.BytesIO()
+    figure.savefig(buffer, format="png")
+    return buffer.getvalue()
 
 
 def figure_png(name: str, labels: Sequence[str], records: Sequence[RunRecord]) -> bytes:

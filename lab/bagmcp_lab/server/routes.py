@@ -98,12 +98,12 @@ def build_lab_router(lab: LabService) -> APIRouter:
 
     @router.get("/{run_id}/{figure}")
     async def figure(run_id: str, figure: Literal["latency", "calls"], who: Caller = who_calls) -> Response:
-        run = lab.registry.get(who.owner, run_id)
-        if not run.records:
+        records = list(lab.registry.get(who.owner, run_id).records)  # the run may add more while this draws
+        if not records:
             raise LabError("no run has finished yet; the figures come with the first result")
-        labels = [model_label(r, run.records) for r in run.records]
+        labels = [model_label(r, records) for r in records]
         name = LATENCY_FIGURE if figure == "latency" else CALLS_FIGURE
-        png = await anyio.to_thread.run_sync(lambda: figure_png(name, labels, list(run.records)))
+        png = await anyio.to_thread.run_sync(lambda: figure_png(name, labels, records))
         return Response(png, media_type="image/png")
 
     return router
