@@ -21,11 +21,11 @@ def tool_specs(tools: Sequence[Tool]) -> list[dict[str, Any]]:
     return [{"name": t.name, "description": t.description or "", "input_schema": t.input_schema} for t in tools]
 
 
-def _result_block(call: ProposedCall, answer: ToolAnswer) -> dict[str, Any]:
+def _result_block(call: ProposedCall, answer: ToolAnswer, *, images: bool) -> dict[str, Any]:
     content: list[dict[str, Any]] = [{"type": "text", "text": answer.text or "(no text)"}]
     content += [
         {"type": "image", "source": {"type": "base64", "media_type": image.mime_type, "data": image.data_base64}}
-        for image in answer.images
+        for image in (answer.images if images else ())
     ]
     return {"type": "tool_result", "tool_use_id": call.call_id, "content": content, "is_error": answer.is_error}
 
@@ -37,6 +37,7 @@ class AnthropicConversation:
     tools: list[dict[str, Any]]
     messages: list[dict[str, Any]] = field(default_factory=list)
     system: str = ""
+    images: bool = True
 
     async def reply(self) -> ModelReply:
         try:
@@ -63,7 +64,8 @@ class AnthropicConversation:
         return ModelReply(text, calls, usage.input_tokens, usage.output_tokens)
 
     def add_answers(self, answers: list[tuple[ProposedCall, ToolAnswer]]) -> None:
-        self.messages.append({"role": "user", "content": [_result_block(call, answer) for call, answer in answers]})
+        blocks = [_result_block(call, answer, images=self.images) for call, answer in answers]
+        self.messages.append({"role": "user", "content": blocks})
 
 
 def anthropic_conversation(
@@ -73,9 +75,10 @@ def anthropic_conversation(
     base_url: str | None,
     tools: Sequence[Tool],
     history: Sequence[tuple[str, str]],
+    images: bool = True,
     instructions: str | None = None,
 ) -> AnthropicConversation:
     """``history``: (role, text) pairs of an earlier chat, the last being the user's new question."""
     client = anthropic.AsyncAnthropic(api_key=api_key, base_url=base_url, max_retries=2)
     messages = [{"role": role, "content": text} for role, text in history]
-    return AnthropicConversation(client, model, tool_specs(tools), messages, system_prompt(instructions))
+    return AnthropicConversation(client, model, tool_specs(tools), messages, system_prompt(instructions), images)

@@ -3,7 +3,7 @@ first conversation of their kind (importing both takes seconds, which `bagmcp se
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Literal
 
@@ -57,27 +57,19 @@ def open_conversation(
     instructions: str | None = None,
 ) -> Conversation:
     """A conversation whose last ``history`` entry is the user's question; ``instructions``: the MCP server's."""
+    make: Callable[..., Conversation]
     if choice.provider == "anthropic":
-        from bagmcp_lab.providers.anthropic_chat import anthropic_conversation
-
-        return anthropic_conversation(
-            model=choice.model,
-            api_key=choice.api_key,
-            base_url=choice.base_url,
-            tools=tools,
-            history=history,
-            instructions=instructions,
-        )
-    if choice.provider == "openai":
-        from bagmcp_lab.providers.openai_chat import openai_conversation
-
-        return openai_conversation(
-            model=choice.model,
-            api_key=choice.api_key,
-            base_url=choice.base_url,
-            tools=tools,
-            history=history,
-            images=choice.images,
-            instructions=instructions,
-        )
-    raise LabError(f"unknown provider {choice.provider!r}; use one of {', '.join(PROVIDERS)}")
+        from bagmcp_lab.providers.anthropic_chat import anthropic_conversation as make
+    elif choice.provider == "openai":
+        from bagmcp_lab.providers.openai_chat import openai_conversation as make
+    else:
+        raise LabError(f"unknown provider {choice.provider!r}; use one of {', '.join(PROVIDERS)}")
+    return make(
+        model=choice.model,
+        api_key=choice.api_key,
+        base_url=choice.base_url,
+        tools=tools,
+        history=history,
+        images=choice.images,
+        instructions=instructions,
+    )
