@@ -6,7 +6,7 @@ BAGS   ?= ../shared/data/bags
 STAMP  := $(VENV)/.installed-stamp
 PACKAGES := shared/pyproject.toml kit/pyproject.toml gateway/pyproject.toml services/bag_store/pyproject.toml services/analysis/pyproject.toml services/plotting/pyproject.toml lab/pyproject.toml cli/pyproject.toml
 
-.PHONY: install run stack test lint typecheck pytest browser bench bench-quick docs-images lock clean
+.PHONY: install run stack test lint typecheck pytest browser bench bench-fleet bench-quick docs-images lock clean
 
 $(STAMP): requirements.lock $(PACKAGES)
 	test -x $(PY) || $(PYTHON) -m venv $(VENV)
@@ -55,6 +55,9 @@ test: lint typecheck browser pytest  ## everything CI checks (the browser tests 
 
 bench: install  ## on demand, not in CI: every tool as MCP calls (embedded, stack) on ~2 GB bags; writes BENCHMARKS.md
 	$(PY) -m bench $(BENCH_ARGS)
+
+bench-fleet: install  ## questions across 500 generated short bags, embedded and stack (writes BENCHMARKS.fleet.md)
+	$(PY) -m bench.fleet $(BENCH_ARGS)
 
 bench-quick: install  ## the benchmark's small version (about a minute; writes .bench/BENCHMARKS.quick.md)
 	$(PY) -m bench --quick $(BENCH_ARGS)

@@ -37,7 +37,11 @@ def compose(settings: EmbeddedSettings, *, public_url: str = "") -> Composition:
     embedded = embedded_resources(
         settings.folder, settings.data_dir, job_budget_s=settings.job_budget_s, open_bags=settings.open_bags
     )
-    parts = [bag_store_part(embedded), analysis_part(embedded), plotting_part(embedded, artifact_base_url=public_url)]
+    parts = [
+        bag_store_part(embedded, queries=settings.queries),
+        analysis_part(embedded),
+        plotting_part(embedded, artifact_base_url=public_url),
+    ]
     jobs = Upstream(name="jobs", server=build_jobs_server(embedded.resources.jobs))
     return Composition(embedded, parts, [*(Upstream(name=p.name, server=p.server) for p in parts), jobs])
 

@@ -108,7 +108,9 @@ def _upload(args: argparse.Namespace) -> int:
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="bagmcp", description="Robot bag analysis for LLM agents.")
     commands = parser.add_subparsers(dest="command", required=True)
-    info = commands.add_parser("info", help="summarize a bag (ROS 1 .bag, ROS 2 directory, .db3, .mcap)")
+    info = commands.add_parser(
+        "info", help="summarize a bag (ROS 1 .bag, ROS 2 directory, .db3, .mcap, .ulg, DataFlash .bin)"
+    )
     info.add_argument("path", help="bag file or ROS 2 bag directory")
     info.add_argument("--json", action="store_true", help="print one JSON object")
     info.add_argument("--recover", action="store_true", help="read a truncated MCAP up to the cut")

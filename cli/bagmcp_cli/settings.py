@@ -8,6 +8,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from bagmcp_bag_store.settings import DEFAULT_QUERY_LIMITS, QueryLimits
 from bagmcp_gateway.ratelimit import Limit
 from bagmcp_gateway.settings import rate_limit_from_env
 from bagmcp_lab.settings import ANY_BASE_URL, LabSettings
@@ -33,6 +34,7 @@ class EmbeddedSettings:
     rate_limit: Limit | None = None
     open_bags: OpenBagLimits = DEFAULT_OPEN_BAGS
     lab: LabSettings = field(default_factory=LabSettings)
+    queries: QueryLimits = DEFAULT_QUERY_LIMITS
 
     @classmethod
     def from_env(cls, folder: Path, data_dir: Path | None, env: Env | None = None) -> EmbeddedSettings:
@@ -47,6 +49,7 @@ class EmbeddedSettings:
             rate_limit=rate_limit_from_env(env, default_per_s=0.0),
             open_bags=OpenBagLimits.from_env(env),
             lab=LabSettings.from_env(env, base_urls=(ANY_BASE_URL,)),  # the machine's owner may name any server
+            queries=QueryLimits.from_env(env),
         )
 
     def http(self, host: str, port: int, *, allowed_hosts: Sequence[str] = ()) -> HttpSettings:

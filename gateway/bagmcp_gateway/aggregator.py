@@ -18,6 +18,7 @@ from typing import Any
 import mcp.types as types
 from mcp import MCPError
 from mcp.server import Server, ServerRequestContext
+from mcp.server.apps import EXTENSION_ID as APPS_EXTENSION
 from mcp.server.apps import client_supports_apps
 from mcp.server.auth.middleware.auth_context import get_access_token
 from mcp.server.context import CallNext, HandlerResult
@@ -135,6 +136,7 @@ def gateway_server(
         on_subscriptions_listen=ListenHandler(bus),
         get_tool_input_schema=gateway.catalog.header_schema,  # else the SDK lists every tool per call
     )
+    server.extensions[APPS_EXTENSION] = {}  # MCP Apps: viewers of the upstreams' tools are relayed (reads.py)
     server.middleware.append(_instructions_middleware(gateway, instructions))
     server.middleware.append(_relay_middleware(gateway, lambda: server.server_info_stamp))
     return server

@@ -9,6 +9,7 @@ from collections.abc import AsyncIterator, Callable, Sequence
 import anyio
 from fastapi import APIRouter, Depends, FastAPI
 from fastapi.responses import JSONResponse, Response
+from mcp.server.auth.provider import AccessToken
 from mcp.server.auth.settings import AuthSettings
 from mcp.server.subscriptions import InMemorySubscriptionBus
 from pydantic import AnyHttpUrl
@@ -18,7 +19,7 @@ from bagmcp_gateway.audit import AuditLog
 from bagmcp_gateway.auth import rest_auth
 from bagmcp_gateway.catalog import ToolCatalog
 from bagmcp_gateway.connections import Connections
-from bagmcp_gateway.console import install_console
+from bagmcp_gateway.console import build_session_router, install_console
 from bagmcp_gateway.events import RedisSubscriptionBus, channel_for
 from bagmcp_gateway.lab_routes import install_lab_page
 from bagmcp_gateway.metrics import GatewayMetrics
@@ -122,10 +123,15 @@ def create_app(
         if on_shutdown is not None:
             on_shutdown()
 
-    routers = [*rest]
+    # before the REST front (team mode forwards every other /api/v1 path to a service)
+    routers = [build_session_router(verifier, tokens_managed=store is not None and verifier is not None), *rest]
     if store is not None and verifier is not None:
         routers.insert(0, build_admin_router(store, profiles=list(settings.policy.profiles), forget=verifier.forget))
-    guard = rest_auth(verifier)
+
+    async def tools_for(caller: AccessToken | None) -> list[str] | None:
+        return gateway.policy.callable_names(await gateway.tools(), caller)
+
+    guard = rest_auth(verifier, tools_for)
     app = new_app(
         title="bagmcp gateway",
         lifespan=lifespan,
@@ -155,7 +161,7 @@ def create_app(
     def metrics() -> Response:
         return Response(gateway.metrics.exposition(), media_type=gateway.metrics.content_type)
 
-    install_console(app)
+    install_console(app, token_required=verifier is not None)
     install_lab_page(app)
     app.mount("/", UniformErrors(mcp_app))
     return app

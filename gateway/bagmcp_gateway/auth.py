@@ -1,11 +1,13 @@
 """REST authentication at the gateway: a valid bearer token, and the scope the route needs
-(upload to upload, delete to delete, admin for tokens and metrics, read for the rest)."""
+(upload to upload, delete to delete, admin for tokens and metrics, read for the rest); and the tools the
+token may call, kept on the request for routes that answer across bags (the proxy forwards them)."""
 
 from __future__ import annotations
 
 from collections.abc import Awaitable, Callable
 
 from fastapi import Request
+from mcp.server.auth.provider import AccessToken
 
 from bagmcp_gateway.tokens.verifier import GatewayVerifier
 from bagmcp_kit.http_errors import HttpError
@@ -21,11 +23,19 @@ def scope_for(method: str, path: str) -> str:
     return "read"
 
 
-def rest_auth(verifier: GatewayVerifier | None) -> Callable[[Request], Awaitable[None]]:
-    """A FastAPI dependency requiring a valid bearer token with the route's scope (none without a verifier)."""
+ToolsFor = Callable[[AccessToken | None], Awaitable[list[str] | None]]
+
+
+def rest_auth(
+    verifier: GatewayVerifier | None, tools_for: ToolsFor | None = None
+) -> Callable[[Request], Awaitable[None]]:
+    """A FastAPI dependency requiring a valid bearer token with the route's scope (none without a verifier);
+    ``tools_for`` names the tools the caller may call (``request.state.bagmcp_tools``, None: every one)."""
 
     async def check(request: Request) -> None:
         if verifier is None:
+            if tools_for is not None:
+                request.state.bagmcp_tools = await tools_for(None)
             return
         scheme, _, token = request.headers.get("authorization", "").partition(" ")
         access = await verifier.verify_token(token.strip()) if scheme.lower() == "bearer" and token else None
@@ -34,5 +44,7 @@ def rest_auth(verifier: GatewayVerifier | None) -> Callable[[Request], Awaitable
         needed = scope_for(request.method, request.url.path)
         if needed not in access.scopes:
             raise HttpError(403, "forbidden", f"this token lacks the {needed!r} scope this route needs")
+        if tools_for is not None:
+            request.state.bagmcp_tools = await tools_for(access)
 
     return check

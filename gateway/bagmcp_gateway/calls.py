@@ -7,7 +7,7 @@ from __future__ import annotations
 import json
 import logging
 import time
-from typing import Any
+from typing import Any, cast
 
 import anyio
 from mcp.server import ServerRequestContext
@@ -15,6 +15,7 @@ from mcp.server.apps import client_supports_apps
 from mcp.server.auth.middleware.auth_context import get_access_token
 from mcp.server.auth.provider import AccessToken
 from mcp.shared.inbound import mcp_param_headers
+from mcp.types import RequestParamsMeta
 
 from bagmcp_gateway.answers import WireResult, cap_answer, error_result, is_error, text_characters
 from bagmcp_gateway.audit import AuditRecord
@@ -23,18 +24,24 @@ from bagmcp_gateway.gateway import Gateway, who
 from bagmcp_gateway.ratelimit import retry_after_s
 from bagmcp_gateway.resource_routes import with_exposed_links
 from bagmcp_kit.identity import owner_meta
-from bagmcp_kit.web.viewers import without_view_data
+from bagmcp_kit.web.viewers import asking_for_views, without_view_data
 
 log = logging.getLogger(__name__)
 
 
 async def _forward(
-    gateway: Gateway, ctx: ServerRequestContext[Any], route: ToolRoute, arguments: dict[str, Any], caller: str
+    gateway: Gateway,
+    ctx: ServerRequestContext[Any],
+    route: ToolRoute,
+    arguments: dict[str, Any],
+    caller: AccessToken | None,
 ) -> WireResult:
     async def relay_progress(progress: float, total: float | None, message: str | None) -> None:
         await ctx.session.report_progress(progress, total, message)
 
-    meta = owner_meta(caller)
+    meta = owner_meta(who(caller), tools=gateway.policy.callable_names(gateway.catalog.tools, caller))
+    if client_supports_apps(ctx):  # the service adds the data to draw only for callers that draw it
+        meta = cast(RequestParamsMeta, asking_for_views(dict(meta)))
     with anyio.fail_after(route.upstream.call_timeout_s):
         async with gateway.connections.link(route.upstream) as link:
             if link.relay is not None:
@@ -80,7 +87,7 @@ async def _checked_call(
         after = retry_after_s(wait)
         return error_result(f"rate limit reached for this token; retry after {after} s", retryAfterSeconds=after)
     try:
-        result = await _forward(gateway, ctx, route, arguments, who(caller))
+        result = await _forward(gateway, ctx, route, arguments, caller)
     except TimeoutError:
         log.warning("call of %s on %s timed out after %s s", route.original, upstream.name, upstream.call_timeout_s)
         gateway.catalog.failed(upstream)

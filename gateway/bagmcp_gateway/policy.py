@@ -86,6 +86,12 @@ class ToolPolicy:
             return False
         return any(self.allows(tool, caller) for tool in upstream_tools)
 
+    def callable_names(self, tools: Sequence[types.Tool], caller: AccessToken | None) -> list[str] | None:
+        """The names of ``tools`` ``caller`` may call, or None when that is all of them (services show a
+        restricted token only what its tools would: answers across bags leave out what it may not read)."""
+        names = [t.name for t in tools if self.allows(t, caller)]
+        return None if len(names) == len(tools) else names
+
     def shown(self, tools: Sequence[types.Tool], caller: AccessToken | None) -> list[types.Tool]:
         """The tools ``caller`` may use, as its profile lists them."""
         lean = (profile := self.profile_of(caller)) is not None and profile.lean

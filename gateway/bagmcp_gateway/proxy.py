@@ -14,6 +14,7 @@ from fastapi import APIRouter, Request
 from fastapi.responses import Response, StreamingResponse
 
 from bagmcp_kit.http_errors import error_response
+from bagmcp_kit.identity import TOOLS_HEADER
 
 CALLER_HEADER = "x-bagmcp-caller"
 _HOP_HEADERS = {
@@ -28,6 +29,7 @@ _HOP_HEADERS = {
     "content-length",
     "origin",  # the gateway checked it; the service behind answers to the gateway, not to the browser
     CALLER_HEADER,  # set only by the gateway, never passed on from a client
+    TOOLS_HEADER,  # only the gateway names the tools a caller may call
 }
 # The only paths the gateway forwards: a configured segment, then at most two plain segments that start
 # with a letter or digit and hold no '/'. Anything else (e.g. an encoded "../mcp") is refused, so the
@@ -67,6 +69,8 @@ def build_proxy(
         if base is None:
             return error_response(404, "not_found", f"no such route /api/v1/{path}; see /docs")
         headers = forwarded_headers(request.headers, path, service_token=service_token, caller_segments=caller_segments)
+        if (tools := getattr(request.state, "bagmcp_tools", None)) is not None:
+            headers[TOOLS_HEADER] = ",".join(tools)
         upstream_request = client.build_request(
             request.method,
             f"{base}/api/v1/{path}",

@@ -1,5 +1,6 @@
-"""GPS fixes (``sensor_msgs/NavSatFix``) as local metres: east (x), north (y) and up (z) of the first valid
-fix. Trajectories and plots use the same conversion, so their numbers agree."""
+"""GPS fixes (``sensor_msgs/NavSatFix``, and the GPS-like types of flight logs) as local metres: east (x),
+north (y) and up (z) of the first valid fix. Trajectories and plots use the same conversion, so their
+numbers agree."""
 
 from __future__ import annotations
 
@@ -12,10 +13,10 @@ import numpy.typing as npt
 from bagmcp_shared.access import OpenBag
 from bagmcp_shared.bags.counted import ReportProgress
 from bagmcp_shared.errors import ArgumentError
-from bagmcp_shared.index import read_series
+from bagmcp_shared.index import Series, read_series
+from bagmcp_shared.topics import fix_columns
 
 EARTH_RADIUS_M = 6_371_008.8
-FIX_COLUMNS = ["latitude", "longitude", "altitude", "status.status"]
 Floats = npt.NDArray[np.float64]
 
 
@@ -61,11 +62,33 @@ def local_metres(latitude_deg: Floats, longitude_deg: Floats, altitude_m: Floats
     )
 
 
+def _one_receiver(series: Series, instance: str | None) -> npt.NDArray[np.bool_]:
+    """The fixes of the lowest-numbered receiver when several log into one topic (all fixes otherwise)."""
+    if instance is None or not len(series.t_ns):
+        return np.ones(len(series.t_ns), dtype=bool)
+    receivers = series.columns[instance]
+    mask: npt.NDArray[np.bool_] = receivers == receivers.min()
+    return mask
+
+
 def read_local_fixes(ob: OpenBag, topic: str, lo: int, hi: int, progress: ReportProgress | None = None) -> LocalFixes:
-    """The valid fixes of ``topic`` in [lo, hi] (the index first); an ArgumentError when there is none."""
-    series = read_series(ob.reader, topic, FIX_COLUMNS, index=ob.index, start_ns=lo, stop_ns=hi + 1, progress=progress)
+    """The valid fixes of ``topic`` in [lo, hi] (the index first); an ArgumentError when there is none. A topic
+    that several receivers log into (ArduPilot's GPS, by ``I``) gives the first receiver's fixes."""
+    source = fix_columns(ob, ob.msgtype(topic))
+    series = read_series(
+        ob.reader, topic, source.columns, index=ob.index, start_ns=lo, stop_ns=hi + 1, progress=progress
+    )
+    one = _one_receiver(series, source.instance)
+    lat, lon, alt = (series.columns[c][one].astype(np.float64) for c in source.columns[:3])
+    fixed = (
+        series.columns[source.status][one].astype(np.float64) >= source.min_status
+        if source.status
+        else np.ones(len(lat), bool)
+    )
     try:
-        metres = local_metres(*(series.columns[c].astype(np.float64) for c in FIX_COLUMNS))
+        metres = local_metres(
+            lat * source.scale_deg, lon * source.scale_deg, alt * source.scale_m, np.where(fixed, 0.0, -1.0)
+        )
     except ValueError as err:
-        raise ArgumentError(f"{topic} has no valid GPS fix in this window (status >= 0 with a position)") from err
-    return LocalFixes(log_ns=series.t_ns[metres.kept], header_ns=series.header_ns[metres.kept], metres=metres)
+        raise ArgumentError(f"{topic} has no valid GPS fix in this window (a fix with a position)") from err
+    return LocalFixes(log_ns=series.t_ns[one][metres.kept], header_ns=series.header_ns[one][metres.kept], metres=metres)

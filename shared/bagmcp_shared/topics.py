@@ -7,6 +7,14 @@ from dataclasses import dataclass
 
 from bagmcp_shared.access import OpenBag
 from bagmcp_shared.errors import ArgumentError
+from bagmcp_shared.flight_types import (
+    FLIGHT_FIXES,
+    FLIGHT_POSE_ORDER,
+    FLIGHT_POSES,
+    FixSource,
+    fix_source,
+    heading_field,
+)
 
 SCAN = "sensor_msgs/msg/LaserScan"
 CLOUD = "sensor_msgs/msg/PointCloud2"
@@ -15,20 +23,53 @@ GPS = "sensor_msgs/msg/NavSatFix"
 
 @dataclass(frozen=True)
 class PoseSource:
-    """Where a pose type keeps its position and orientation (message paths)."""
+    """Where a pose type keeps its position and orientation (message paths): ``position`` holds x, y, z
+    (top-level fields when ""); the yaw comes from the ``orientation`` quaternion or the ``yaw`` field."""
 
     position: str
     orientation: str | None
+    yaw: str | None = None
+
+    def axis(self, name: str) -> str:
+        return f"{self.position}.{name}" if self.position else name
+
+    @property
+    def yaw_column(self) -> str | None:
+        return self.yaw or (f"{self.orientation}.yaw" if self.orientation else None)
 
 
-POSE_SOURCES: dict[str, PoseSource] = {  # in order of preference
+POSE_SOURCES: dict[str, PoseSource] = {  # in order of preference; GPS-like types have no pose fields
     "nav_msgs/msg/Odometry": PoseSource("pose.pose.position", "pose.pose.orientation"),
     "geometry_msgs/msg/PoseWithCovarianceStamped": PoseSource("pose.pose.position", "pose.pose.orientation"),
     "geometry_msgs/msg/PoseStamped": PoseSource("pose.position", "pose.orientation"),
     "geometry_msgs/msg/TransformStamped": PoseSource("transform.translation", "transform.rotation"),
     GPS: PoseSource("", None),
+    **dict.fromkeys(FLIGHT_POSE_ORDER, PoseSource("", None)),  # x, y, z top level; the heading: pose_source
 }
 _PREFERENCE = list(POSE_SOURCES)
+NAVSATFIX = FixSource("latitude", "longitude", "altitude", "status.status", 0.0)
+
+
+def pose_source(ob: OpenBag, msgtype: str) -> PoseSource:
+    """Where ``msgtype`` keeps its pose; a flight local position's heading field depends on the log's version."""
+    if msgtype in FLIGHT_POSES:
+        return PoseSource("", None, heading_field(ob.reader.decoder.typestore(msgtype), msgtype))
+    return POSE_SOURCES[msgtype]
+
+
+def is_fix(msgtype: str) -> bool:
+    """A GPS-like type: positions are latitude/longitude, turned into metres east/north of the first fix."""
+    return msgtype == GPS or msgtype in FLIGHT_FIXES
+
+
+def fix_columns(ob: OpenBag, msgtype: str) -> FixSource:
+    """Where the fixes of ``msgtype`` are (ArgumentError when its definition has none of the known layouts)."""
+    if msgtype == GPS:
+        return NAVSATFIX
+    found = fix_source(ob.reader.decoder.typestore(msgtype), msgtype)
+    if found is None:
+        raise ArgumentError(f"{msgtype} in {ob.name} has none of the known latitude/longitude field layouts")
+    return found
 
 
 def _rank(name: str, msgtype: str, count: int) -> tuple[int, int, int]:

@@ -161,7 +161,7 @@ def gateway_env(stack: Stack, port: int, extra: dict[str, str]) -> dict[str, str
         "BAGMCP_TOKENS": f"{TOKEN},{OTHER_TOKEN}",
         "BAGMCP_PORT": str(port),
         "BAGMCP_UPSTREAMS": ",".join(f"{name}={url}/mcp" for name, url in urls.items()),
-        "BAGMCP_REST_ROUTES": f"bags={urls['bag-store']},artifacts={urls['plotting']}",
+        "BAGMCP_REST_ROUTES": f"bags={urls['bag-store']},query={urls['bag-store']},artifacts={urls['plotting']}",
         "BAGMCP_REDIS_URL": stack.redis_url,
         "BAGMCP_RATE_LIMIT_PER_S": "1000",
         "BAGMCP_RATE_BURST": "1000",

@@ -88,7 +88,7 @@ def test_serve_lists_bags_over_rest_and_refuses_uploads_to_a_read_only_folder(se
     assert "not a ROS bag" in status["fake"][1]
     assert "notes" not in status
     assert status["flight"][0] == "failed"
-    assert "PX4 ULog" in status["flight"][1]
+    assert "ULog file holds no message formats" in status["flight"][1]
     refused = httpx.post(f"{served}/api/v1/bags", params={"filename": "x.bag"}, content=b"#ROSBAG V2.0\n")
     assert refused.status_code == 405
     assert refused.json()["error"]["code"] == "read_only"

@@ -1,8 +1,10 @@
 """The data an MCP Apps viewer (and the web console) draws, added to a finished tool answer.
 
 A view is a plain JSON dict ``{"kind": ..., ...}`` in the result's ``_meta["bagmcp/view"]``. It is built in
-a worker thread after the answer (a job still running gets none) and bounded: series are thinned by the
-caller to a few thousand points, scans to at most ``MAX_RANGES`` ranges, so a view stays under ~300 KB."""
+a worker thread after the answer (a job still running gets none), only for a caller that draws it (an Apps
+client, named by the gateway with ``_meta["bagmcp/views"]`` on the request, or one connected directly), so
+other clients pay nothing for it; and bounded: series are thinned by the caller to a few thousand points,
+scans to at most ``MAX_RANGES`` ranges, so a view stays under ~300 KB."""
 
 from __future__ import annotations
 
@@ -13,9 +15,11 @@ from typing import Any
 import anyio
 import numpy as np
 import numpy.typing as npt
+from mcp.server.apps import client_supports_apps
+from mcp.server.mcpserver import Context
 from mcp.types import CallToolResult
 
-from bagmcp_kit.web.viewers import with_view
+from bagmcp_kit.web.viewers import VIEWS_META_KEY, with_view
 
 View = dict[str, Any]
 MAX_RANGES = 1440
@@ -38,9 +42,16 @@ def finished(answer: CallToolResult) -> bool:
     return not answer.is_error and isinstance(content, dict) and content.get("result") is not None
 
 
-async def add_view(answer: CallToolResult, make: Callable[[], View | None]) -> CallToolResult:
-    """``answer`` with the view ``make`` builds (in a thread) when the work is done; unchanged otherwise."""
-    if not finished(answer):
+def wants_views(ctx: Context) -> bool:
+    """Whether the caller draws views: the gateway says so for its caller, a direct client by its capabilities."""
+    meta = ctx.request_context.meta or {}
+    return bool(meta.get(VIEWS_META_KEY)) or client_supports_apps(ctx)
+
+
+async def add_view(ctx: Context, answer: CallToolResult, make: Callable[[], View | None]) -> CallToolResult:
+    """``answer`` with the view ``make`` builds (in a thread) when the work is done and the caller draws
+    views; unchanged otherwise."""
+    if not finished(answer) or not wants_views(ctx):
         return answer
     view = await anyio.to_thread.run_sync(make)
     if view is not None:

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import tarfile
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import Annotated
 
@@ -39,7 +39,10 @@ def _check_uploads(policy: UploadPolicy) -> None:
         raise ReadOnlyError("this server serves a read-only folder of bags; uploads are disabled")
 
 
-def build_router(access: BagAccess, policy: UploadPolicy) -> APIRouter:
+def build_router(
+    access: BagAccess, policy: UploadPolicy, *, forget: Callable[[str], None] = lambda _bag_id: None
+) -> APIRouter:
+    """``forget`` drops a deleted bag from what this process keeps in memory beyond the opened-bag cache."""
     router = APIRouter(prefix="/api/v1")
 
     @router.post("/bags", status_code=201)
@@ -77,6 +80,7 @@ def build_router(access: BagAccess, policy: UploadPolicy) -> APIRouter:
         record = exact_bag(access.catalog, ref)
         policy.shelf.remove(record)
         access.cache.discard(record.id)
+        forget(record.id)
         return Response(status_code=204)
 
     return router

@@ -5,6 +5,7 @@ from __future__ import annotations
 from fastapi import FastAPI
 
 from bagmcp_bag_store.errors import STATUSES
+from bagmcp_bag_store.fleet.backfill import queue_fleet_backfill
 from bagmcp_bag_store.ingest.rebuild import restore_lost_catalog
 from bagmcp_bag_store.job_kinds import QUEUE
 from bagmcp_bag_store.settings import BagStoreSettings
@@ -15,11 +16,13 @@ from bagmcp_shared.resources import team_resources
 
 
 def create_app(settings: BagStoreSettings) -> FastAPI:
-    """The service over Redis and S3; a catalog lost with Redis's data is rebuilt from storage first."""
+    """The service over Redis and S3; a catalog lost with Redis's data is rebuilt from storage first, and
+    ready bags missing from the columnar store are queued to feed it."""
     service = settings.service
     resources = team_resources(service.team, queue=QUEUE)
     restore_lost_catalog(resources.catalog, resources.store, ingest_queue(resources))
-    bag_store = build_bag_store(resources, uploads=settings.uploads, guard=Guard.of(service))
+    queue_fleet_backfill(resources.catalog, ingest_queue(resources))
+    bag_store = build_bag_store(resources, uploads=settings.uploads, queries=settings.queries, guard=Guard.of(service))
     return create_service_app(
         title="bagmcp bag-store",
         server=bag_store.server,

@@ -9,7 +9,7 @@ from bagmcp_bag_store.errors import STATUSES
 from bagmcp_bag_store.ingest.folder import FolderHashes, catalog_folder
 from bagmcp_bag_store.ingest.rebuild import rebuild_catalog
 from bagmcp_bag_store.job_kinds import INGEST, RUN_JOB
-from bagmcp_bag_store.settings import UploadSettings
+from bagmcp_bag_store.settings import QueryLimits, UploadSettings
 from bagmcp_bag_store.wiring import BagStore, build_bag_store
 from bagmcp_kit.parts import ServicePart
 from bagmcp_shared.jobs import run_job
@@ -18,10 +18,11 @@ from bagmcp_shared.resources import Embedded
 log = logging.getLogger(__name__)
 
 
-def start_embedded(embedded: Embedded) -> BagStore:
-    """The bag-store over the embedded resources; starts cataloguing and ingesting the folder."""
+def start_embedded(embedded: Embedded, *, queries: QueryLimits | None = None) -> BagStore:
+    """The bag-store over the embedded resources; starts cataloguing and ingesting the folder (ingest feeds
+    the columnar store every bag it lacks, from the bag's index when that is reused)."""
     res = embedded.resources
-    bag_store = build_bag_store(res, uploads=UploadSettings(max_bytes=0))
+    bag_store = build_bag_store(res, uploads=UploadSettings(max_bytes=0), queries=queries)
     work = bag_store.work
 
     hashes = FolderHashes(res.catalog, embedded.folder, embedded.data_dir / "content-ids.json")
@@ -44,7 +45,7 @@ def start_embedded(embedded: Embedded) -> BagStore:
     return bag_store
 
 
-def embedded_part(embedded: Embedded) -> ServicePart:
+def embedded_part(embedded: Embedded, *, queries: QueryLimits | None = None) -> ServicePart:
     """The bag-store part of the embedded server."""
-    bag_store = start_embedded(embedded)
+    bag_store = start_embedded(embedded, queries=queries)
     return ServicePart("bag-store", bag_store.server, (bag_store.router,), STATUSES)

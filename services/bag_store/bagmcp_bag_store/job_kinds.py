@@ -1,9 +1,12 @@
-"""The bag-store's background work: its two tasks and its two kinds of job, with typed parameters."""
+"""The bag-store's background work: its two tasks and its kinds of job, with typed parameters."""
 
 from __future__ import annotations
 
 from pydantic import BaseModel, Field, JsonValue
 
+from bagmcp_bag_store.fleet.answers import QueryAnswer
+from bagmcp_bag_store.fleet.find import FindAnswer
+from bagmcp_bag_store.fleet.find_params import FindParams, QueryParams
 from bagmcp_bag_store.query.conditions import Condition
 from bagmcp_bag_store.results import FilterResult, SearchResult
 from bagmcp_shared.jobs import JobKind
@@ -40,3 +43,6 @@ class FilterParams(BaseModel):
 
 SEARCH = JobKind("bag_store.search", SearchParams, SearchResult, RUN_JOB)
 FILTER = JobKind("bag_store.filter", FilterParams, FilterResult, RUN_JOB)
+
+QUERY = JobKind("bag_store.query", QueryParams, QueryAnswer, RUN_JOB)
+FIND = JobKind("bag_store.find", FindParams, FindAnswer, RUN_JOB)

@@ -10,12 +10,14 @@ from mcp.server.mcpserver import MCPServer
 
 from bagmcp_bag_store.api import build_router
 from bagmcp_bag_store.filtering import filter_bag
+from bagmcp_bag_store.fleet.routes import build_query_router
+from bagmcp_bag_store.fleet.service import Fleet, build_fleet
 from bagmcp_bag_store.ingest.ingest import Ingestor
 from bagmcp_bag_store.ingest.shelf import Shelf
 from bagmcp_bag_store.ingest.upload import UploadPolicy
-from bagmcp_bag_store.job_kinds import FILTER, INGEST, SEARCH
+from bagmcp_bag_store.job_kinds import FILTER, FIND, INGEST, QUERY, SEARCH
 from bagmcp_bag_store.query.search import search_messages
-from bagmcp_bag_store.settings import UploadSettings
+from bagmcp_bag_store.settings import QueryLimits, UploadSettings
 from bagmcp_bag_store.tools import build_server
 from bagmcp_kit.longwork import LongWork
 from bagmcp_kit.server import Guard
@@ -25,22 +27,28 @@ from bagmcp_shared.resources import Resources
 
 @dataclass(frozen=True)
 class BagStoreWork:
-    """What runs in the background: ingest, and the jobs the registry knows."""
+    """What runs in the background: ingest, and the jobs the registry knows (the fleet's queries too)."""
 
     shelf: Shelf
     ingestor: Ingestor
     registry: JobRegistry
+    fleet: Fleet
 
 
-def build_work(res: Resources) -> BagStoreWork:
+def build_work(res: Resources, *, queries: QueryLimits | None = None) -> BagStoreWork:
     shelf = Shelf(res.catalog, res.store)
     ingestor = Ingestor(res.catalog, res.files, res.indexes, res.store)
+    fleet = build_fleet(
+        res.catalog, res.store, res.files, limits=queries or QueryLimits(), budget_bytes=res.max_result_bytes
+    )
     registry = JobRegistry()
     registry.add(
         SEARCH, lambda p, progress: search_messages(res.access, p, progress, budget_bytes=res.max_result_bytes)
     )
     registry.add(FILTER, lambda p, progress: filter_bag(res.access, shelf, ingestor, p, progress))
-    return BagStoreWork(shelf, ingestor, registry)
+    registry.add(QUERY, fleet.query)
+    registry.add(FIND, fleet.find)
+    return BagStoreWork(shelf, ingestor, registry, fleet)
 
 
 def ingest_queue(res: Resources) -> Callable[[str], None]:
@@ -59,11 +67,12 @@ def build_bag_store(
     res: Resources,
     *,
     uploads: UploadSettings,
+    queries: QueryLimits | None = None,
     guard: Guard | None = None,
 ) -> BagStore:
-    work = build_work(res)
+    work = build_work(res, queries=queries)
     longwork = LongWork(res.jobs, res.runner, work.registry, budget_s=res.job_budget_s)
-    server = build_server(res.access, longwork, budget_bytes=res.max_result_bytes, guard=guard)
+    server = build_server(res.access, longwork, work.fleet, budget_bytes=res.max_result_bytes, guard=guard)
     policy = UploadPolicy(
         shelf=work.shelf,
         queue_ingest=ingest_queue(res),
@@ -73,4 +82,7 @@ def build_bag_store(
         stuck_after_s=uploads.stuck_after_s,
         uploads=res.uploads,
     )
-    return BagStore(work, server, build_router(res.access, policy))
+    routers = APIRouter()
+    routers.include_router(build_router(res.access, policy, forget=work.fleet.engine.forget))
+    routers.include_router(build_query_router(work.fleet))
+    return BagStore(work, server, routers)

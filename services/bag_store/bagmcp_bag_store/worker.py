@@ -7,15 +7,17 @@ from __future__ import annotations
 import functools
 
 from bagmcp_bag_store.job_kinds import RUN_JOB
+from bagmcp_bag_store.settings import QueryLimits
 from bagmcp_bag_store.tasks import register_ingest_task
 from bagmcp_bag_store.wiring import BagStoreWork, build_work
 from bagmcp_shared.jobs.worker import job_worker
 from bagmcp_shared.resources import Resources
+from bagmcp_shared.settings import Env
 
 
 @functools.cache
 def _work(resources: Resources) -> BagStoreWork:
-    return build_work(resources)
+    return build_work(resources, queries=QueryLimits.from_env(Env()))
 
 
 app, resources = job_worker(RUN_JOB, lambda res: _work(res).registry)

@@ -81,12 +81,13 @@ def read_fields(ob: OpenBag, topic: str, fields: list[str], lo: int, hi: int, pr
         raise ArgumentError(
             f"{topic} has no messages between {(lo - ob.start_ns) / 1e9:.3f} s and {(hi - ob.start_ns) / 1e9:.3f} s"
         )
+    stated = ob.reader.decoder.units(ob.msgtype(topic))  # DataFlash logs state units (FMTU)
     return [
         PathSeries(
             name=f"{topic}.{field}",
             topic=topic,
             field=field,
-            unit=unit_of(field),
+            unit=stated.get(field) or unit_of(field),
             t_ns=series.t_ns,
             values=series.columns[field].astype(np.float64),
         )

@@ -19,7 +19,7 @@ from bagmcp_plotting.reports import Artifact, PlotReport, SeriesOut
 from bagmcp_shared.access import BagAccess, OpenBag
 from bagmcp_shared.errors import ArgumentError
 from bagmcp_shared.jobs import JobKind, Progress, spans
-from bagmcp_shared.topics import GPS, SCAN, choose_lidar_topic, choose_pose_topic
+from bagmcp_shared.topics import SCAN, choose_lidar_topic, choose_pose_topic, is_fix
 from bagmcp_shared.units import unit_of
 
 
@@ -130,7 +130,7 @@ class Plotter:
         topic, msgtype, others = choose_pose_topic(ob, params.topic)
         x, y = positions(ob, topic, msgtype, lo, hi, progress)
         chosen = f"trajectory of {topic}" + (f" (other pose topics: {', '.join(others)})" if others else "")
-        gps = ["GPS fixes as metres east and north of the first valid fix"] if msgtype == GPS else []
+        gps = ["GPS fixes as metres east and north of the first valid fix"] if is_fix(msgtype) else []
         return x, y, [chosen, *gps]
 
     def scan(self, params: kinds.ScanPlotParams, progress: Progress) -> PlotReport:

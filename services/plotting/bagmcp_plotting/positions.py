@@ -12,7 +12,7 @@ from bagmcp_shared.access import OpenBag
 from bagmcp_shared.errors import ArgumentError
 from bagmcp_shared.jobs import Progress
 from bagmcp_shared.local_fixes import read_local_fixes
-from bagmcp_shared.topics import GPS, POSE_SOURCES, choose_pose_topic
+from bagmcp_shared.topics import POSE_SOURCES, choose_pose_topic, is_fix
 
 MOVING_MPS = 0.05
 
@@ -21,9 +21,9 @@ def positions(
     ob: OpenBag, topic: str, msgtype: str, lo: int, hi: int, progress: Progress
 ) -> tuple[PathSeries, PathSeries]:
     """x and y of the pose topic ``topic`` (of ``msgtype``) in [lo, hi], in metres."""
-    if msgtype != GPS:
-        position = POSE_SOURCES[msgtype].position
-        x, y = read_fields(ob, topic, [f"{position}.{axis}" for axis in "xy"], lo, hi, progress)
+    if not is_fix(msgtype):
+        source = POSE_SOURCES[msgtype]
+        x, y = read_fields(ob, topic, [source.axis(axis) for axis in "xy"], lo, hi, progress)
         return x, y
     fixes = read_local_fixes(ob, topic, lo, hi, progress)
     return (

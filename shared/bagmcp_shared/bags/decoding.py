@@ -14,7 +14,9 @@ from rosbags.typesys import Stores, get_types_from_idl, get_types_from_msg, get_
 from rosbags.typesys.msg import normalize_msgtype
 from rosbags.typesys.store import Typestore
 
+from bagmcp_shared.bags.foreign import foreign_codec
 from bagmcp_shared.bags.models import Connection, Encoding, RawMessage
+from bagmcp_shared.bags.plain_types import ForeignCodec
 from bagmcp_shared.errors import DecodeError
 
 _IDL_SEPARATOR = "=" * 80 + "\n"
@@ -99,27 +101,49 @@ def _complete(store: Typestore, conn: Connection) -> str | None:
 
 
 class Decoder:
-    """Decodes messages of a bag's connections; knows which types it can decode and why not."""
+    """Decodes messages of a bag's connections; knows which types it can decode and why not.
+
+    Non-ROS types are set up when first used: a ULog has about a hundred formats and registering them all
+    costs about 0.5 s, while a question reads one or two topics.
+    """
 
     def __init__(self, connections: Iterable[Connection]) -> None:
         self._stores: dict[str, Typestore] = {}
+        self._foreign: dict[str, ForeignCodec] = {}
+        self._pending: dict[str, Connection] = {}
         self._problems: dict[str, str] = {}
         for conn in connections:
-            if conn.msgtype not in self._stores and conn.msgtype not in self._problems:
+            if not conn.encoding.is_ros:
+                self._pending.setdefault(conn.msgtype, conn)
+            elif conn.msgtype not in self._stores and conn.msgtype not in self._problems:
                 self._add(conn)
+
+    def _ready(self, msgtype: str) -> None:
+        conn = self._pending.pop(msgtype, None)
+        if conn is not None:
+            self._add(conn)
 
     @property
     def problems(self) -> dict[str, str]:
         """Message types that cannot be decoded, with the reason for each."""
+        for msgtype in list(self._pending):
+            self._ready(msgtype)
         return dict(self._problems)
 
     def typestore(self, msgtype: str) -> Typestore:
         """The typestore that decodes ``msgtype`` (raises DecodeError when there is none)."""
+        self._ready(msgtype)
         store = self._stores.get(msgtype)
         if store is None:
             reason = self._problems.get(msgtype, "the type is not used in this bag")
             raise DecodeError(f"cannot decode messages of type {msgtype}: {reason}")
         return store
+
+    def units(self, msgtype: str) -> dict[str, str]:
+        """Units of field paths that the type's own definition states (DataFlash FMTU); empty for ROS types."""
+        self._ready(msgtype)
+        codec = self._foreign.get(msgtype)
+        return dict(codec.units) if codec is not None else {}
 
     def decode(self, raw: RawMessage) -> object:
         """Deserialize one raw message.
@@ -128,6 +152,8 @@ class Decoder:
         standard ROS type that does fit, the standard definition is used from then on.
         """
         conn = raw.connection
+        if not conn.encoding.is_ros:
+            return self._decode_foreign(raw)
         try:
             return _deserialize(self.typestore(conn.msgtype), raw)
         except DecodeError:
@@ -135,6 +161,20 @@ class Decoder:
         except Exception as err:  # rosbags raises SerdeError, struct.error, IndexError...
             if (message := self._with_standard_type(raw)) is not None:
                 return message
+            raise DecodeError(
+                f"message of {conn.topic} ({conn.msgtype}) at {raw.log_time_ns} ns could not be decoded: {err}"
+            ) from err
+
+    def _decode_foreign(self, raw: RawMessage) -> object:
+        conn = raw.connection
+        self._ready(conn.msgtype)
+        codec = self._foreign.get(conn.msgtype)
+        if codec is None:
+            self.typestore(conn.msgtype)  # raises with the reason
+            raise DecodeError(f"cannot decode messages of type {conn.msgtype}")
+        try:
+            return codec.decode(raw.data)
+        except Exception as err:  # struct, json, protobuf and value errors of a payload that does not fit
             raise DecodeError(
                 f"message of {conn.topic} ({conn.msgtype}) at {raw.log_time_ns} ns could not be decoded: {err}"
             ) from err
@@ -152,7 +192,14 @@ class Decoder:
         return message
 
     def _add(self, conn: Connection) -> None:
-        if conn.definition.strip():
+        if not conn.encoding.is_ros:
+            found = foreign_codec(conn)
+            if isinstance(found, str):
+                self._problems[conn.msgtype] = found
+            else:
+                self._foreign[conn.msgtype] = found
+                self._stores[conn.msgtype] = found.store
+        elif conn.definition.strip():
             self._add_from_definition(conn)
         else:
             self._add_from_standard_types(conn)

@@ -13,7 +13,8 @@ _MAGICS: tuple[tuple[bytes, BagFormat | str], ...] = (
     (b"\x89MCAP0\r\n", BagFormat.MCAP),
     (b"SQLite format 3\x00", BagFormat.ROS2_SQLITE3),
     (b"#ROSRECORD V1.", _LEGACY),
-    (b"ULog\x01\x12\x35", "a PX4 ULog flight log, not a ROS bag; convert it with pyulog's tools first"),
+    (b"ULog\x01\x12\x35", BagFormat.ULOG),
+    (b"\xa3\x95\x80", BagFormat.DATAFLASH),  # a DataFlash log opens with FMT records (message id 128)
     (b"\x28\xb5\x2f\xfd", "a zstd-compressed file; decompress it first"),
     (b"PK\x03\x04", "a zip archive; unpack it (or upload it, which unpacks ROS 2 bag directories)"),
 )
@@ -34,6 +35,14 @@ def sniff_file(path: Path) -> BagFormat:
                 return kind
             raise UnsupportedFormatError(f"{path}: this is {kind}")
     raise UnsupportedFormatError(
-        f"{path}: not a ROS bag (unknown file signature {head[:8]!r}); bagmcp reads ROS 1 .bag, "
-        "ROS 2 .db3/.mcap bag directories and bare .mcap files"
+        f"{path}: not a ROS bag or flight log (unknown file signature {head[:8]!r}); bagmcp reads ROS 1 .bag, "
+        "ROS 2 .db3/.mcap bag directories, bare .mcap files, PX4 .ulg and ArduPilot DataFlash .bin logs"
     )
+
+
+def is_dataflash(path: Path) -> bool:
+    """A ``.bin`` file that starts like a DataFlash log (other ``.bin`` files in a folder are not bags)."""
+    try:
+        return sniff_file(path) is BagFormat.DATAFLASH
+    except BagError:
+        return False

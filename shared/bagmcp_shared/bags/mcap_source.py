@@ -9,8 +9,11 @@ unless the caller asked to recover what precedes the cut (complete messages of a
 
 from __future__ import annotations
 
+import base64
+import json
 import struct
 from collections.abc import Collection, Iterator, Sequence
+from dataclasses import replace
 from pathlib import Path
 from typing import BinaryIO
 
@@ -20,14 +23,23 @@ from mcap.records import Channel, Message, Schema
 from mcap.summary import Summary
 from rosbags.typesys.msg import normalize_msgtype
 
+from bagmcp_shared.bags.json_types import infer_schema
 from bagmcp_shared.bags.mcap_cut_text import cut_error, cut_note
 from bagmcp_shared.bags.mcap_records import RecordError
 from bagmcp_shared.bags.mcap_scan import scan, stream
 from bagmcp_shared.bags.models import Compression, Connection, Encoding, RawMessage
+from bagmcp_shared.bags.plain_types import type_name
 from bagmcp_shared.errors import DamagedBagError, UnsupportedFormatError
 
-_ENCODINGS = {"ros1": Encoding.ROS1, "cdr": Encoding.CDR}
-_SCHEMA_FORMATS = {"ros1msg": "msg", "ros2msg": "msg", "ros2idl": "idl"}
+_ENCODINGS = {
+    "ros1": Encoding.ROS1,
+    "cdr": Encoding.CDR,
+    "json": Encoding.JSON,
+    "protobuf": Encoding.PROTOBUF,
+    "data_tamer": Encoding.DATA_TAMER,
+}
+_SCHEMA_FORMATS = {"ros1msg": "msg", "ros2msg": "msg", "ros2idl": "idl", "jsonschema": "jsonschema"}
+_SCHEMA_FORMATS |= {"protobuf": "protobuf", "data_tamer": "data_tamer"}
 _READ_ERRORS = (McapError, struct.error, ValueError, EOFError, RuntimeError)
 
 
@@ -36,13 +48,30 @@ def _msgtype(name: str) -> str:
     return normalize_msgtype(name) if name.count("/") == 1 else name
 
 
+def _definition(encoding: Encoding, schema: Schema | None) -> str:
+    """The schema as connection text (protobuf's binary descriptor set base64-encoded)."""
+    if schema is None:
+        return ""
+    if encoding is Encoding.PROTOBUF:
+        return base64.b64encode(schema.data).decode("ascii")
+    return schema.data.decode("utf-8", "replace")
+
+
+def _type(encoding: Encoding, channel: Channel, schema: Schema | None) -> str:
+    """ROS type names as ROS writes them; other schemas named so message paths can use them."""
+    if encoding.is_ros:
+        return _msgtype(schema.name) if schema else ""
+    return type_name(schema.name if schema and schema.name else channel.topic)
+
+
 def _connection(channel: Channel, schema: Schema | None, count: int) -> Connection:
+    encoding = _ENCODINGS[channel.message_encoding]
     return Connection(
         id=channel.id,
         topic=channel.topic,
-        msgtype=_msgtype(schema.name) if schema else "",
-        encoding=_ENCODINGS[channel.message_encoding],
-        definition=schema.data.decode("utf-8", "replace") if schema else "",
+        msgtype=_type(encoding, channel, schema),
+        encoding=encoding,
+        definition=_definition(encoding, schema),
         definition_format=_SCHEMA_FORMATS.get(schema.encoding, "") if schema else "",
         count=count,
         metadata=tuple(sorted(channel.metadata.items())),
@@ -70,6 +99,7 @@ class McapSource:
         else:
             self._connections, self._bounds, chunks = self._from_scan(recover_truncated)
         self._compression = Compression.of_chunks(chunks)
+        self._connections = self._with_inferred_schemas(self._connections)
 
     def _read_summary(self, reader: SeekingReader) -> Summary | None:
         try:
@@ -80,24 +110,40 @@ class McapSource:
             return None
         return summary
 
-    def _ros_channels(self, channels: dict[int, Channel]) -> list[Channel]:
-        ros = [c for c in channels.values() if c.message_encoding in _ENCODINGS]
+    def _readable_channels(self, channels: dict[int, Channel]) -> list[Channel]:
+        known = [c for c in channels.values() if c.message_encoding in _ENCODINGS]
         other = sorted({c.message_encoding for c in channels.values()} - set(_ENCODINGS))
-        if channels and not ros:
+        readable = ", ".join(_ENCODINGS)
+        if channels and not known:
             raise UnsupportedFormatError(
                 f"{self._path}: MCAP profile {self.profile!r} with message encoding "
-                f"{', '.join(other)!s} is not a ROS recording (bagmcp reads ros1 and cdr)"
+                f"{', '.join(other)!s} cannot be decoded (bagmcp reads {readable})"
             )
         if other:
-            self._notes.append(f"channels with non-ROS encodings ({', '.join(other)}) are skipped")
-        return sorted(ros, key=lambda c: c.id)
+            self._notes.append(f"channels with encodings bagmcp cannot decode ({', '.join(other)}) are skipped")
+        return sorted(known, key=lambda c: c.id)
+
+    def _with_inferred_schemas(self, connections: list[Connection]) -> list[Connection]:
+        """JSON channels without a schema get one inferred from their first message."""
+        found = []
+        for conn in connections:
+            if conn.encoding is Encoding.JSON and not conn.definition and conn.count:
+                first = next(self.messages([conn.id], start_ns=None, stop_ns=None), None)
+                try:
+                    sample = json.loads(first.data) if first is not None else {}
+                except ValueError:
+                    sample = {}
+                conn = replace(conn, definition=json.dumps(infer_schema(sample)), definition_format="jsonschema")
+                self._notes.append(f"{conn.topic}: JSON without a schema; its fields were taken from its first message")
+            found.append(conn)
+        return found
 
     def _from_summary(self, summary: Summary) -> tuple[list[Connection], dict[int, tuple[int, int]]]:
         assert summary.statistics is not None
         counts = summary.statistics.channel_message_counts
         conns = [
             _connection(ch, summary.schemas.get(ch.schema_id), counts.get(ch.id, 0))
-            for ch in self._ros_channels(summary.channels)
+            for ch in self._readable_channels(summary.channels)
         ]
         return conns, {}
 
@@ -115,7 +161,7 @@ class McapSource:
             raise DamagedBagError(f"{self._path}: {cut_error(cut, found.channels)}")
         conns = [
             _connection(ch, found.schemas.get(ch.schema_id), found.counts.get(ch.id, 0))
-            for ch in self._ros_channels(found.channels)
+            for ch in self._readable_channels(found.channels)
         ]
         return conns, found.bounds, found.chunk_compressions
 

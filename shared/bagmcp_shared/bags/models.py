@@ -15,7 +15,14 @@ class BagFormat(StrEnum):
     ROS1 = "ros1"  # ROS 1 .bag (format 2.0; plain, bz2 or lz4 chunks)
     ROS2_SQLITE3 = "ros2-sqlite3"  # ROS 2 bag directory or bare .db3 file(s)
     ROS2_MCAP = "ros2-mcap"  # ROS 2 bag directory whose storage files are MCAP
-    MCAP = "mcap"  # a bare .mcap file (profile ros1 or ros2)
+    MCAP = "mcap"  # a bare .mcap file (ros1/ros2 profiles, or JSON, protobuf and data_tamer channels)
+    ULOG = "px4-ulog"  # a PX4 ULog flight log (.ulg)
+    DATAFLASH = "ardupilot-dataflash"  # an ArduPilot DataFlash binary log (.bin)
+
+    @property
+    def is_flight_log(self) -> bool:
+        """A flight controller's log: no ROS types, no TF, no lidar, no images."""
+        return self in (BagFormat.ULOG, BagFormat.DATAFLASH)
 
 
 class Compression(StrEnum):
@@ -58,6 +65,15 @@ class Encoding(StrEnum):
 
     ROS1 = "ros1"
     CDR = "cdr"
+    JSON = "json"  # MCAP JSON channels; also the records bagmcp derives (ULog logged strings, parameters)
+    PROTOBUF = "protobuf"
+    DATA_TAMER = "data_tamer"
+    ULOG = "ulog"  # a ULog data message: packed little-endian fields of the log's own format
+    DATAFLASH = "dataflash"  # a DataFlash record body: fields of its FMT, multipliers of pymavlink
+
+    @property
+    def is_ros(self) -> bool:
+        return self in (Encoding.ROS1, Encoding.CDR)
 
 
 @dataclass(frozen=True)
@@ -85,6 +101,9 @@ class Connection:
         meta = dict(self.metadata)
         qos = meta.get("offered_qos_profiles", "").lower()
         return meta.get("latching") == "1" or "durability: 1" in qos or "transient_local" in qos
+
+
+MODE_NAMES = "mode_names"  # metadata of a DataFlash MODE connection: its mode numbers' names (JSON)
 
 
 class RawMessage(NamedTuple):

@@ -172,6 +172,17 @@ class BagReader:
         self.close()
 
 
+def _open_flight_log(path: Path, kind: BagFormat) -> MessageSource:
+    """pyulog and pymavlink are imported here, when a flight log is opened (about 0.3 s; see foreign.py)."""
+    if kind is BagFormat.ULOG:
+        from bagmcp_shared.bags.ulog_source import open_ulog
+
+        return open_ulog(path)
+    from bagmcp_shared.bags.dataflash_source import open_dataflash
+
+    return open_dataflash(path)
+
+
 def _open_source(
     path: Path, stack: ExitStack, *, recover_truncated: bool, workspace: Path | None
 ) -> tuple[MessageSource, BagFormat, list[Path]]:
@@ -183,6 +194,8 @@ def _open_source(
         source = Ros1Source(path)
     elif kind is BagFormat.MCAP:
         source = McapSource(path, recover_truncated=recover_truncated)
+    elif kind.is_flight_log:
+        source = _open_flight_log(path, kind)
     else:
         source, kind = open_storage_file(path, recover_truncated=recover_truncated)
     stack.callback(source.close)
@@ -190,7 +203,8 @@ def _open_source(
 
 
 def open_bag(path: str | os.PathLike[str], *, recover_truncated: bool = False) -> BagReader:
-    """Open any supported bag: a ROS 1 .bag, a ROS 2 directory, a bare .db3 or .mcap file.
+    """Open any supported bag: a ROS 1 .bag, a ROS 2 directory, a bare .db3 or .mcap file, a PX4 ULog
+    or an ArduPilot DataFlash log.
 
     Raises a :class:`BagError` subclass with a readable message for anything unreadable.
     ``recover_truncated`` accepts an MCAP cut in the middle of a record and keeps what precedes it.

@@ -28,6 +28,7 @@ from bagmcp_shared.bags.models import BagFormat, Compression, Connection, Encodi
 from bagmcp_shared.bags.reader import BagReader
 from bagmcp_shared.bags.writer_connections import Convert, OutConn, ros1_output, ros2_output
 from bagmcp_shared.bags.writer_connections import FilterError as FilterError
+from bagmcp_shared.bags.writer_json_mcap import JsonMcapWriter, json_output
 from bagmcp_shared.bags.writer_storage import AnyWriter, new_writer, output_compression
 from bagmcp_shared.bags.writer_storage import OutputFormat as OutputFormat
 from bagmcp_shared.errors import JobCancelledError
@@ -42,12 +43,15 @@ class FilterCancelled(JobCancelledError):  # noqa: N818 (a cancellation, not an 
 
 
 def default_output(fmt: BagFormat, connections: Iterable[Connection] = ()) -> OutputFormat:
-    """The output format closest to the input; a bare MCAP whose channels are all ROS 1 gives ROS 1."""
+    """The output format closest to the input; a bare MCAP whose channels are all ROS 1 gives ROS 1; a
+    recording with messages that are not ROS messages gives JSON MCAP."""
+    encodings = {c.encoding for c in connections}
+    if fmt.is_flight_log or any(not e.is_ros for e in encodings):
+        return OutputFormat.MCAP_JSON
     if fmt is BagFormat.ROS1:
         return OutputFormat.ROS1
     if fmt is BagFormat.ROS2_SQLITE3:
         return OutputFormat.ROS2_SQLITE3
-    encodings = {c.encoding for c in connections}
     if fmt is BagFormat.MCAP and encodings == {Encoding.ROS1}:
         return OutputFormat.ROS1
     return OutputFormat.ROS2_MCAP
@@ -138,7 +142,8 @@ def _target_path(directory: Path, name: str, fmt: OutputFormat) -> Path:
         raise FilterError(f"{name!r} is not a valid bag name (a plain file name is needed)")
     if not directory.is_dir():
         raise FilterError(f"{directory}: the output directory does not exist")
-    target = directory / (f"{name}.bag" if fmt is OutputFormat.ROS1 else name)
+    suffix = {OutputFormat.ROS1: ".bag", OutputFormat.MCAP_JSON: ".mcap"}.get(fmt, "")
+    target = directory / f"{name}{suffix}"
     if target.exists() or target.is_symlink():
         raise FilterError(f"{target} exists already; choose another name")
     return target
@@ -181,9 +186,23 @@ def _plan(reader: BagReader, spec: FilterSpec, fmt: OutputFormat) -> dict[int, _
     """Source connection id -> how its messages are written."""
     selected = _select(reader, spec)
     periods = _periods(reader, spec, selected)
+    if fmt is OutputFormat.MCAP_JSON and all(c.encoding.is_ros for c in reader.connections):
+        raise FilterError(
+            f"{reader.path.name} holds ROS messages only; write it as ros1, ros2-sqlite3 or ros2-mcap "
+            "(mcap-json is for flight logs and MCAP with non-ROS messages)"
+        )
     plan: dict[int, _Stream] = {}
     for conn in selected:
-        out, convert = ros1_output(reader, conn) if fmt is OutputFormat.ROS1 else ros2_output(reader, conn)
+        convert: Convert | None
+        if fmt is OutputFormat.MCAP_JSON:
+            out, convert = json_output(reader, conn)
+        elif not conn.encoding.is_ros:
+            raise FilterError(
+                f"{conn.topic} ({conn.msgtype}) holds {conn.encoding.value} messages, not ROS messages, so it cannot "
+                f"be written as {fmt.value}; write it as mcap-json (MCAP with JSON messages)"
+            )
+        else:
+            out, convert = ros1_output(reader, conn) if fmt is OutputFormat.ROS1 else ros2_output(reader, conn)
         plan[conn.id] = _Stream(out, convert, periods.get(conn.topic, 0.0))
     return plan
 
@@ -224,7 +243,7 @@ def _open_writer(target: Path, fmt: OutputFormat, compression: Compression) -> A
     try:
         writer = new_writer(target, fmt, compression)
         writer.open()
-    except (Ros1WriterError, Ros2WriterError) as err:  # rosbags refuses to overwrite anything
+    except (Ros1WriterError, Ros2WriterError, FileExistsError) as err:  # rosbags refuses to overwrite anything
         raise FilterError(f"{target} exists already; choose another name") from err
     except _WRITE_ERRORS as err:  # created, then the storage could not be set up
         _remove(target)
@@ -232,7 +251,9 @@ def _open_writer(target: Path, fmt: OutputFormat, compression: Compression) -> A
     return writer
 
 
-def _add(writer: AnyWriter, out: OutConn) -> RbConnection:
+def _add(writer: AnyWriter, out: OutConn) -> RbConnection | int:
+    if isinstance(writer, JsonMcapWriter):
+        return writer.add_connection(out)
     if isinstance(writer, Ros1Writer):
         return writer.add_connection(
             out.topic,
@@ -245,6 +266,15 @@ def _add(writer: AnyWriter, out: OutConn) -> RbConnection:
     return writer.add_connection(
         out.topic, out.msgtype, msgdef=out.msgdef, rihs01=out.digest, offered_qos_profiles=out.qos
     )
+
+
+def _put(writer: AnyWriter, target: RbConnection | int, log_time_ns: int, data: bytes | memoryview) -> None:
+    if isinstance(writer, JsonMcapWriter):
+        assert isinstance(target, int)
+        writer.write(target, log_time_ns, data)
+    else:
+        assert isinstance(target, RbConnection)
+        writer.write(target, log_time_ns, data)
 
 
 def _write(
@@ -273,7 +303,7 @@ def _copy(
     tracker: _Tracker,
 ) -> dict[str, int]:
     """Copy messages in log-time order; returns the count written per topic."""
-    outputs: dict[OutConn, RbConnection] = {}
+    outputs: dict[OutConn, RbConnection | int] = {}
     for stream in streams.values():
         if stream.out not in outputs:
             outputs[stream.out] = _add(writer, stream.out)
@@ -287,7 +317,7 @@ def _copy(
         last = last_kept.get(topic)
         if last is None or raw.log_time_ns - last >= stream.period_ns:
             data = raw.data if stream.convert is None else stream.convert(raw.data)
-            writer.write(outputs[stream.out], raw.log_time_ns, data)
+            _put(writer, outputs[stream.out], raw.log_time_ns, data)
             last_kept[topic] = raw.log_time_ns
             counts[topic] += 1
         tracker.tick()

@@ -68,6 +68,7 @@ class OutConn:
     callerid: str | None = None
     latching: int | None = None
     qos: tuple[Qos, ...] = ()
+    metadata: tuple[tuple[str, str], ...] = ()  # MCAP channel metadata (JSON MCAP output)
 
 
 def _typestore(reader: BagReader, conn: Connection, why: str) -> Typestore:

@@ -21,8 +21,9 @@ from rosbags.rosbag2.enums import CompressionFormat, CompressionMode
 from rosbags.rosbag2.storage_mcap import McapWriter
 
 from bagmcp_shared.bags.models import BagFormat, Compression
+from bagmcp_shared.bags.writer_json_mcap import JsonMcapWriter
 
-AnyWriter = Ros1Writer | Ros2Writer
+AnyWriter = Ros1Writer | Ros2Writer | JsonMcapWriter
 
 
 class OutputFormat(StrEnum):
@@ -31,6 +32,7 @@ class OutputFormat(StrEnum):
     ROS1 = "ros1"
     ROS2_SQLITE3 = "ros2-sqlite3"
     ROS2_MCAP = "ros2-mcap"
+    MCAP_JSON = "mcap-json"  # a bare MCAP of JSON messages: what flight logs and non-ROS MCAP are copied to
 
 
 # The format a source is copied to when nothing else is asked for (a bare MCAP file is ROS 2's).
@@ -39,6 +41,8 @@ _HOME = {
     BagFormat.ROS2_SQLITE3: OutputFormat.ROS2_SQLITE3,
     BagFormat.ROS2_MCAP: OutputFormat.ROS2_MCAP,
     BagFormat.MCAP: OutputFormat.ROS2_MCAP,
+    BagFormat.ULOG: OutputFormat.MCAP_JSON,
+    BagFormat.DATAFLASH: OutputFormat.MCAP_JSON,
 }
 # What each output format can store, and what it uses for a compressed source of another format:
 # ROS 1 has bz2 and lz4 (bz2 is the one that stays small), MCAP's usual choice is zstd chunks,
@@ -49,11 +53,13 @@ _KEEPS: dict[OutputFormat, frozenset[Compression]] = {
         {Compression.NONE, Compression.LZ4, Compression.ZSTD, Compression.ZSTD_FILE, Compression.ZSTD_MESSAGE}
     ),
     OutputFormat.ROS2_SQLITE3: frozenset({Compression.NONE, Compression.ZSTD_FILE, Compression.ZSTD_MESSAGE}),
+    OutputFormat.MCAP_JSON: frozenset({Compression.ZSTD}),
 }
 _USUAL = {
     OutputFormat.ROS1: Compression.BZ2,
     OutputFormat.ROS2_MCAP: Compression.ZSTD,
     OutputFormat.ROS2_SQLITE3: Compression.ZSTD_FILE,
+    OutputFormat.MCAP_JSON: Compression.ZSTD,
 }
 _ROS2_MODES = {
     Compression.ZSTD: CompressionMode.STORAGE,
@@ -64,6 +70,8 @@ _ROS2_MODES = {
 
 def output_compression(source_format: BagFormat, source: Compression, fmt: OutputFormat) -> tuple[Compression, str]:
     """The compression a filtered copy in ``fmt`` uses, and a few words saying why."""
+    if fmt is OutputFormat.MCAP_JSON:
+        return Compression.ZSTD, "zstd chunks of JSON messages"
     same_format = _HOME[source_format] is fmt and source in _KEEPS[fmt]
     if same_format or source is Compression.NONE:
         return source, f"{source.label}, as in the source"
@@ -94,6 +102,8 @@ def new_writer(target: Path, fmt: OutputFormat, compression: Compression) -> Any
     """An unopened writer for ``target`` in ``fmt`` with ``compression`` (one ``fmt`` can store)."""
     if compression not in _KEEPS[fmt]:
         raise ValueError(f"{fmt.value} cannot store {compression.label}")
+    if fmt is OutputFormat.MCAP_JSON:
+        return JsonMcapWriter(target)
     if fmt is OutputFormat.ROS1:
         ros1 = Ros1Writer(target)
         if compression is not Compression.NONE:

@@ -13,8 +13,9 @@ import numpy as np
 
 from bagmcp_shared.bags import BagReader, RawMessage
 from bagmcp_shared.errors import BagmcpError
+from bagmcp_shared.flight_types import flight_columns
 from bagmcp_shared.index.columns import INDEXED_COLUMNS
-from bagmcp_shared.index.logs import LOG_TYPES, LogRow, log_row, save_logs
+from bagmcp_shared.index.logs import RECORD_TYPES, LogRow, log_row, save_logs
 from bagmcp_shared.index.series import Collector, header_rate_hz
 from bagmcp_shared.index.transforms import TF_TYPES, TransformCollector, is_static, save_transforms
 
@@ -54,15 +55,18 @@ def _extracts(reader: BagReader) -> _Extracts:
     for conn in reader.connections:
         if not conn.count or conn.msgtype in reader.decoder.problems:
             continue
-        if conn.msgtype in INDEXED_COLUMNS:
+        columns = INDEXED_COLUMNS.get(conn.msgtype) or flight_columns(
+            reader.decoder.typestore(conn.msgtype), conn.msgtype
+        )
+        if columns:
             try:
-                found.columns.setdefault(conn.topic, Collector(reader, conn.topic, INDEXED_COLUMNS[conn.msgtype]))
+                found.columns.setdefault(conn.topic, Collector(reader, conn.topic, columns))
             except BagmcpError:
                 continue  # a same-named type with another definition: left to decoding
         if conn.msgtype in TF_TYPES:
             found.transforms.setdefault(conn.topic, TransformCollector())
             found.static[conn.id] = is_static(conn)
-        if conn.msgtype in LOG_TYPES:
+        if conn.msgtype in RECORD_TYPES:
             found.logs.setdefault(conn.topic, [])
     return found
 

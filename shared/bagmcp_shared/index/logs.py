@@ -9,9 +9,12 @@ from typing import Protocol, cast
 
 from bagmcp_shared.bags import BagReader
 from bagmcp_shared.bags.counted import ReportProgress, counted
+from bagmcp_shared.flight_types import FLIGHT_LOG_TYPES
+from bagmcp_shared.index.flight_logs import flight_record
 from bagmcp_shared.timebase import header_stamp_ns
 
 LOG_TYPES = frozenset({"rosgraph_msgs/msg/Log", "rcl_interfaces/msg/Log"})
+RECORD_TYPES = LOG_TYPES | FLIGHT_LOG_TYPES  # what analyze_logs reads: ROS logs and flight-log texts
 MAX_TEXT = 2000
 
 
@@ -55,6 +58,12 @@ def _stamp_ns(message: object) -> int:
 
 
 def log_row(log_ns: int, message: object) -> LogRow:
+    flight = flight_record(message)
+    if flight is not None:
+        level, node, text = flight
+        return LogRow(
+            t_ns=log_ns, stamp_ns=0, level=level, node=node, text=text[:MAX_TEXT], file="", function="", line=0
+        )
     log = cast(_Log, message)
     return LogRow(
         t_ns=log_ns,

@@ -3,7 +3,8 @@ the old ``tf/tfMessage``), with frames as indexes into a frame list. Built at in
 
 from __future__ import annotations
 
-from collections.abc import Iterable
+import math
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
 from typing import Protocol, cast
 
@@ -44,6 +45,19 @@ class _Stamped(Protocol):
 
 class _TfMessage(Protocol):
     transforms: list[_Stamped]
+
+
+def normalize_frame(name: str) -> str:
+    """Frame id without leading slashes or surrounding whitespace ("/base_link" -> "base_link")."""
+    return name.strip().lstrip("/")
+
+
+def is_finite_sample(translation: Sequence[float], rotation: Sequence[float]) -> bool:
+    """True when the translation is finite and the rotation is a finite, non-zero quaternion."""
+    values = (*translation, *rotation)
+    if not all(math.isfinite(v) for v in values):
+        return False
+    return math.sqrt(sum(v * v for v in rotation)) > 1e-9
 
 
 def is_static(conn: Connection) -> bool:

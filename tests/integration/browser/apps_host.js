@@ -1,10 +1,11 @@
 /* A minimal MCP Apps host for the viewer tests: it answers ui/initialize, waits for
    ui/notifications/initialized, then sends ui/notifications/tool-input and ui/notifications/tool-result
    with the real tool call in window.CALL ({arguments, result}), and resizes the frame as the view asks.
-   Every message from the view is kept in window.hostLog for the test to read. */
+   Every message from the view is kept in window.hostLog for the test to read. As a real host does, it
+   listens before it creates the frame, so the view's first message cannot be missed. */
 (function () {
   "use strict";
-  const frame = document.getElementById("viewer");
+  const frame = document.createElement("iframe");
   const log = [];
   window.hostLog = log;
   const send = (message) => frame.contentWindow.postMessage(Object.assign({ jsonrpc: "2.0" }, message), "*");
@@ -24,4 +25,7 @@
       frame.style.height = Math.min(2000, message.params.height + 4) + "px";
     }
   });
+  Object.assign(frame, { id: "viewer", title: "bagmcp viewer", src: "/viewer.html" });
+  frame.setAttribute("sandbox", "allow-scripts");
+  document.querySelector("main").appendChild(frame);
 })();

@@ -1,5 +1,8 @@
-"""Fixtures of the browser tests: one Playwright driver per session, a fresh Chromium profile per module,
-and per test a watched page that fails the test on any browser console error."""
+"""Fixtures of the browser tests: a Playwright driver and a fresh Chromium profile per module, and per test a
+watched page that fails the test on any browser console error.
+
+The driver lives only as long as a module: Playwright's sync API runs an event loop in the test thread while
+it is started, and the async tests that pytest runs after these modules need that thread's loop free."""
 
 from __future__ import annotations
 
@@ -12,7 +15,7 @@ from playwright.sync_api import BrowserContext, Playwright, sync_playwright
 from tests.integration.browser.harness import FLAGS, LAPTOP, Watched, chromium_or_fail
 
 
-@pytest.fixture(scope="session")
+@pytest.fixture(scope="module")
 def driver() -> Iterator[Playwright]:
     with sync_playwright() as playwright:
         yield playwright

@@ -116,18 +116,23 @@ def test_log_texts_and_tags_that_are_markup_show_as_text(stack: Stack, watched: 
     assert dialogs == []
 
 
-def test_a_job_started_elsewhere_is_followed_to_its_end(stack: Stack, chatter: str, watched: Watched) -> None:
-    arguments = {"bag": chatter, "topic": "/chatter", "condition": "regex", "value": "9999$"}
-    started = call_tool(stack.url, TOKEN, "search_messages", arguments)
-    job = started["structuredContent"].get("job")
-    assert job is not None, started
+def test_a_job_is_followed_from_queued_to_its_end(stack: Stack, uploaded: dict[str, Any], watched: Watched) -> None:
+    """filter_bag always runs as a job on the bag-store queue; with that queue's worker stopped it stays
+    queued, and the Jobs page shows it so, then succeeded once a worker is back."""
     page = watched.page
     sign_in(page, stack.url, TOKEN)
-    page.click("nav a[href='#/jobs']")
-    page.fill("#job-id", job["job_id"])
-    page.click("#main form button[type=submit]")
-    row = page.locator("#job-list tr", has_text=job["job_id"])
-    row.wait_for()
+    stack.kill_worker(stack.latest_worker("bag-store"))
+    try:
+        arguments = {"bag": str(uploaded["ros1"]["name"]), "name": "web_job", "include_topics": ["/odom"]}
+        job = call_tool(stack.url, TOKEN, "filter_bag", arguments)["structuredContent"]["job"]
+        page.click("nav a[href='#/jobs']")
+        page.fill("#job-id", job["job_id"])
+        page.click("#main form button[type=submit]")
+        row = page.locator("#job-list tr", has_text=job["job_id"])
+        row.filter(has_text="queued").wait_for()
+        assert "0%" in row.inner_text()
+    finally:
+        stack.start_worker("bag-store")
     row.filter(has_text="succeeded").wait_for(timeout=120_000)
     assert "100%" in row.inner_text()
     assert axe_violations(page) == []

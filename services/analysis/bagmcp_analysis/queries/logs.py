@@ -7,7 +7,7 @@ from bagmcp_analysis.logs.records import Burst, LogRecord, filter_records, summa
 from bagmcp_analysis.reports.logs import BurstOut, LogEntry, LogReport, LogSummaryOut
 from bagmcp_shared.access import BagAccess, OpenBag
 from bagmcp_shared.errors import ArgumentError
-from bagmcp_shared.index import LOG_TYPES, LogRow, decode_logs
+from bagmcp_shared.index import RECORD_TYPES, LogRow, decode_logs
 from bagmcp_shared.jobs import Progress, spans
 from bagmcp_shared.log_levels import level_name
 
@@ -18,12 +18,18 @@ ENTRY_BUDGET_BYTES = 12_000
 def log_topics(ob: OpenBag, topic: str | None) -> list[str]:
     if topic is not None:
         name = ob.topic_name(topic)
-        if ob.msgtype(name) not in LOG_TYPES:
-            raise ArgumentError(f"{name} is {ob.msgtype(name)}, not a log type (rosgraph_msgs/Log, rcl_interfaces/Log)")
+        if ob.msgtype(name) not in RECORD_TYPES:
+            raise ArgumentError(
+                f"{name} is {ob.msgtype(name)}, not a log type (rosgraph_msgs/Log, rcl_interfaces/Log, "
+                "PX4 logged_messages, ArduPilot MSG or ERR)"
+            )
         return [name]
-    found = [t.name for t in ob.summary.topics if t.type in LOG_TYPES and t.count]
+    found = [t.name for t in ob.summary.topics if t.type in RECORD_TYPES and t.count]
     if not found:
-        raise ArgumentError(f"{ob.name} has no log topic (rosgraph_msgs/Log or rcl_interfaces/msg/Log)")
+        raise ArgumentError(
+            f"{ob.name} has no log topic (rosgraph_msgs/Log, rcl_interfaces/msg/Log, PX4 logged_messages, "
+            "ArduPilot MSG or ERR)"
+        )
     return found
 
 

@@ -14,7 +14,7 @@ from bagmcp_shared.index import read_series
 from bagmcp_shared.jobs import Progress
 from bagmcp_shared.local_fixes import read_local_fixes
 from bagmcp_shared.timebase import MAX_CLOCK_SKEW_NS
-from bagmcp_shared.topics import GPS, POSE_SOURCES
+from bagmcp_shared.topics import is_fix, pose_source
 
 MAX_RATE_RATIO = 20.0  # header time may run slower or faster than log time (a simulation), but not by more
 
@@ -52,18 +52,19 @@ def pose_clock(
 
 def read_poses(ob: OpenBag, topic: str, msgtype: str, lo: int, hi: int, progress: Progress) -> Poses:
     """The topic's poses in [lo, hi] as a Track in metres, on header stamps when they are sane."""
-    source = POSE_SOURCES[msgtype]
+    source = pose_source(ob, msgtype)
     notes: list[str] = []
-    if msgtype == GPS:
+    if is_fix(msgtype):
         fixes = read_local_fixes(ob, topic, lo, hi, progress)
         log_ns = fixes.log_ns
         stamps, clock, note = pose_clock(log_ns, fixes.header_ns)
         track = track_of_fixes(stamps, fixes.metres, log_time=clock == "log_time")
         notes.append("GPS fixes as metres east (x) and north (y) of the first valid fix; no heading")
     else:
-        columns = [f"{source.position}.{axis}" for axis in "xyz"] + [f"{source.orientation}.yaw"]
+        columns = [source.axis(axis) for axis in "xyz"] + ([source.yaw_column] if source.yaw_column else [])
         series = read_series(ob.reader, topic, columns, index=ob.index, start_ns=lo, stop_ns=hi + 1, progress=progress)
-        x, y, z, yaw = (series.columns[c].astype(np.float64) for c in columns)
+        x, y, z, *rest = (series.columns[c].astype(np.float64) for c in columns)
+        yaw = rest[0] if rest else np.full(len(x), np.nan)
         log_ns = series.t_ns
         stamps, clock, note = pose_clock(log_ns, series.header_ns)
         track = Track(t_ns=stamps, x=x, y=y, z=z, yaw=yaw, log_time=clock == "log_time")

@@ -12,7 +12,7 @@ from bagmcp_shared.access import BagAccess, OpenBag
 from bagmcp_shared.errors import ArgumentError
 from bagmcp_shared.jobs import Progress
 from bagmcp_shared.timebase import Instant
-from bagmcp_shared.topics import GPS, choose_pose_topic
+from bagmcp_shared.topics import choose_pose_topic, is_fix
 
 
 def _number(value: float) -> float | None:
@@ -32,8 +32,10 @@ def _pose(ob: OpenBag, poses: Poses, index: int) -> Pose:
 
 
 def _frame(ob: OpenBag, topic: str, msgtype: str, lo: int) -> str | None:
-    if msgtype == GPS:
+    if is_fix(msgtype):
         return "local east/north of the first fix"
+    if msgtype.startswith("px4/"):
+        return "PX4 local frame (x north, y east, z down, metres from the estimator's origin)"
     first = next(ob.reader.messages([topic], start_ns=lo), None)
     header = getattr(ob.reader.decode(first), "header", None) if first is not None else None
     frame = getattr(header, "frame_id", None)

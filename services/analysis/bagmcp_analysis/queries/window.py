@@ -13,10 +13,11 @@ from bagmcp_analysis.queries.logs import log_entry, log_topics, read_records
 from bagmcp_analysis.queries.poses import read_poses
 from bagmcp_analysis.reports.lidar import Closest
 from bagmcp_analysis.reports.trajectory import StopOut
-from bagmcp_analysis.reports.window import Motion, TopicActivity, WindowReport
+from bagmcp_analysis.reports.window import FlightMode, Motion, TopicActivity, WindowReport
 from bagmcp_analysis.trajectory.track import summarize_track
 from bagmcp_shared.access import BagAccess, OpenBag
 from bagmcp_shared.errors import BagmcpError
+from bagmcp_shared.flight_modes import mode_changes, mode_topic, modes_in_window
 from bagmcp_shared.jobs import Progress, spans
 from bagmcp_shared.topics import choose_lidar_topic, choose_pose_topic
 from bagmcp_shared.wording import counted
@@ -80,6 +81,22 @@ def _obstacle(ob: OpenBag, lo: int, hi: int, progress: Progress) -> Closest | No
     return lidar_window(ob, topic, ob.msgtype(topic), params, progress).closest
 
 
+def _flight_modes(ob: OpenBag, lo: int, hi: int) -> list[FlightMode]:
+    topic = mode_topic(ob.reader)
+    if topic is None:
+        return []
+    try:
+        changes = modes_in_window(mode_changes(ob.reader, topic), lo, hi)
+    except BagmcpError:
+        return []
+    return [FlightMode(mode=c.name, value=c.number, since=ob.instant(c.t_ns)) for c in changes]
+
+
+def _modes_statement(modes: list[FlightMode]) -> str:
+    steps = ", then ".join(f"{m.mode} from {m.since.offset_s:.1f} s" for m in modes)
+    return f"flight modes: {steps}"
+
+
 def _topic_statements(activity: list[TopicActivity]) -> list[str]:
     said = [s for a in activity if (s := activity_statement(a))]
     if len(said) <= MAX_TOPIC_STATEMENTS:
@@ -117,6 +134,9 @@ def summarize_window(access: BagAccess, params: WindowParams, progress: Progress
         motion = _motion(ob, lo, hi, moving)
         if motion is not None:
             statements.append(_motion_statement(motion))
+        modes = _flight_modes(ob, lo, hi)
+        if modes:
+            statements.insert(0, _modes_statement(modes))
         closest = _obstacle(ob, lo, hi, scanning)
         if closest is not None:
             statements.append(
@@ -135,6 +155,7 @@ def summarize_window(access: BagAccess, params: WindowParams, progress: Progress
             log_entries=[log_entry(ob, r) for r in bad[:MAX_LOG_ENTRIES]],
             motion=motion,
             closest_obstacle=closest,
+            flight_modes=modes,
         )
 
 

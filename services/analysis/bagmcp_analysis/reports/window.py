@@ -40,6 +40,12 @@ class Motion(BaseModel):
     stop_count: int
 
 
+class FlightMode(BaseModel):
+    mode: str
+    value: int = Field(description="the log's own number (PX4 nav_state, ArduPilot mode number)")
+    since: Instant = Field(description="when it took effect (before the window for the first one)")
+
+
 class WindowReport(BaseModel):
     bag: str
     start: Instant
@@ -52,3 +58,6 @@ class WindowReport(BaseModel):
     log_entries: list[LogEntry] = Field(description="the first WARN-or-worse records")
     motion: Motion | None
     closest_obstacle: Closest | None
+    flight_modes: list[FlightMode] = Field(
+        default_factory=list, description="flight logs: the mode at the window start, then every change"
+    )

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import math
 from collections.abc import Iterable
 from dataclasses import dataclass
 
@@ -116,11 +115,3 @@ def parents_at(edges: Iterable[EdgeSeries], t_ns: int | None) -> dict[str, str]:
         if current is None or _published_key(series, t_ns) > _published_key(current, t_ns):
             best[series.child] = series
     return {child: series.parent for child, series in best.items()}
-
-
-def is_finite_sample(translation: Vec3, rotation: Quat) -> bool:
-    """True when the translation is finite and the rotation is a finite, non-zero quaternion."""
-    values = (*translation, *rotation)
-    if not all(math.isfinite(v) for v in values):
-        return False
-    return math.sqrt(sum(v * v for v in rotation)) > 1e-9

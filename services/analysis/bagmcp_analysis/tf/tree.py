@@ -8,8 +8,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from bagmcp_analysis.tf.edges import EdgeSeries, is_finite_sample, nearest_ns, parents_at, rate_hz
+from bagmcp_analysis.tf.edges import EdgeSeries, nearest_ns, parents_at, rate_hz
 from bagmcp_analysis.tf.lookup import Lookup, lookup_transform
+from bagmcp_shared.index.transforms import is_finite_sample, normalize_frame
 
 __all__ = ["Edge", "Lookup", "TfBuffer", "TfSample", "TfTree", "normalize_frame"]
 
@@ -50,11 +51,6 @@ class TfTree:
     multiple_parents: dict[str, list[str]]
     order: list[str]
     ignored_samples: int
-
-
-def normalize_frame(name: str) -> str:
-    """Frame id without leading slashes or surrounding whitespace ("/base_link" -> "base_link")."""
-    return name.strip().lstrip("/")
 
 
 def _series(parent: str, child: str, samples: list[TfSample]) -> EdgeSeries:

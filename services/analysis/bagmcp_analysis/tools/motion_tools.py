@@ -72,7 +72,7 @@ class MotionTools(BagTools):
         answer = await self._work.run(
             ctx, TRAJECTORY, params, _trajectory_summary, small=lambda p: trajectory_is_small(self._access, p)
         )
-        return await add_view(answer, lambda: self._views.trajectory(params, _result(answer)))
+        return await add_view(ctx, answer, lambda: self._views.trajectory(params, _result(answer)))
 
     @tool(READ_ONLY, view=True)
     async def analyze_lidar_scan(
@@ -93,7 +93,7 @@ class MotionTools(BagTools):
         answer = await self._work.run(
             ctx, LIDAR, params, _lidar_summary, small=lambda p: lidar_is_small(self._access, p)
         )
-        return await add_view(answer, lambda: self._views.lidar(params, _result(answer)))
+        return await add_view(ctx, answer, lambda: self._views.lidar(params, _result(answer)))
 
     @tool(READ_ONLY)
     async def summarize_window(

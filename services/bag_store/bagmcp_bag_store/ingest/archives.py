@@ -17,7 +17,7 @@ from typing import IO
 
 from bagmcp_bag_store.errors import UploadError, UploadTooLargeError
 
-BAG_FILE_SUFFIXES = (".bag", ".mcap", ".db3", ".mcap.zstd", ".db3.zstd")
+BAG_FILE_SUFFIXES = (".bag", ".mcap", ".db3", ".mcap.zstd", ".db3.zstd", ".ulg", ".bin", ".BIN")
 _STEP = 1 << 20
 _RATIO_FLOOR_BYTES = 1 << 20  # small members (metadata.yaml) compress well; judge ratios above this size
 

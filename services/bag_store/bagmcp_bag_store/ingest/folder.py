@@ -12,13 +12,14 @@ from pathlib import Path
 from bagmcp_bag_store.ingest.content import Hashed, content_id, quick_content_id
 from bagmcp_bag_store.ingest.ingest import progress_recorder
 from bagmcp_bag_store.ingest.upload import sanitize_name
-from bagmcp_shared.bags.detect import sniff_file
+from bagmcp_shared.bags.detect import is_dataflash, sniff_file
 from bagmcp_shared.bags.ros2_dir import storage_files
 from bagmcp_shared.catalog import BagRecord, Catalog
 from bagmcp_shared.errors import BagError, BagmcpError, NameTakenError
 
 log = logging.getLogger(__name__)
 _RECORDING_SUFFIXES = (".bag", ".mcap", ".db3", ".ulg", ".ulog")  # recordings, read or refused with a reason
+_DATAFLASH_SUFFIX = ".bin"  # any case (flight controllers write 00000042.BIN); kept when it starts like one
 
 
 def _is_bag_dir(path: Path) -> bool:
@@ -33,7 +34,7 @@ def find_bags(root: Path) -> list[Path]:
             continue
         if entry.is_dir():
             found.extend([entry] if _is_bag_dir(entry) else find_bags(entry))
-        elif entry.suffix in _RECORDING_SUFFIXES:
+        elif entry.suffix in _RECORDING_SUFFIXES or (entry.suffix.lower() == _DATAFLASH_SUFFIX and is_dataflash(entry)):
             found.append(entry)
     return found
 

@@ -9,9 +9,11 @@ import time
 from collections.abc import Callable
 from pathlib import Path
 
+from bagmcp_bag_store.fleet.extract import IngestedBag
+from bagmcp_bag_store.fleet.feeding import ViewFeeder
 from bagmcp_shared import keys
 from bagmcp_shared.access import BagFiles, IndexPublisher
-from bagmcp_shared.bags import BagReader, open_bag
+from bagmcp_shared.bags import BagReader, BagSummary, open_bag
 from bagmcp_shared.catalog import BagRecord, Catalog, CatalogSummary
 from bagmcp_shared.errors import BagError, BagNotFoundError
 from bagmcp_shared.index import ColumnIndex, build_index
@@ -45,13 +47,15 @@ def _definitions(bag: BagReader) -> dict[str, dict[str, str]]:
 
 class Ingestor:
     """Summarizes bags into the catalog and builds their columnar index (``store`` keeps a copy of
-    what ingest learned next to stored bags, so the catalog can be rebuilt from storage)."""
+    what ingest learned next to stored bags, so the catalog can be rebuilt from storage); the index carries
+    each bag's rows of the views queries across bags read (fleet/)."""
 
     def __init__(self, catalog: Catalog, files: BagFiles, indexes: IndexPublisher, store: ObjectStore) -> None:
         self._catalog = catalog
         self._files = files
         self._indexes = indexes
         self._store = store
+        self._views = ViewFeeder(catalog, files, indexes)
 
     def mark_failed(self, bag_id: str, reason: str) -> None:
         """Record why a bag cannot be used (no-op if it was deleted meanwhile)."""
@@ -62,20 +66,22 @@ class Ingestor:
     def ingest(self, bag_id: str) -> str:
         """Summarize the bag, build its columnar index, and mark it ready (or failed, with the reason).
 
-        Idempotent: a redelivered task on a ready bag does nothing. Storage errors propagate so the
-        caller can retry; a bag deleted while ingesting stays deleted.
+        Idempotent: a redelivered task on a ready bag only adds the views' files to its index when they are
+        missing (a bag ingested before they existed). Storage errors propagate so the caller can retry; a
+        bag deleted while ingesting stays deleted.
         """
         record = self._catalog.get(bag_id)
         if record is None:
             raise BagNotFoundError(f"bag {bag_id} is not in the catalog (deleted while queued?)")
         if record.status == "ready":
+            self._views.backfill(record)
             return record.status
         path = self._files.path_for(record)
         try:
             with open_bag(path) as bag:
                 found = bag.summary()
                 definitions = _definitions(bag)
-                index_files, header_rates = self._index(record, bag)
+                index_files, header_rates = self._index(record, bag, found)
         except BagError as err:
             reason = str(err).replace(str(path), record.name)  # no server paths in what clients see
             log.warning("ingest of %s failed: %s", bag_id, reason)
@@ -95,13 +101,19 @@ class Ingestor:
         """Index building, recorded after whatever share earlier stages (hashing a served file) took."""
         return progress_recorder(self._catalog, record.id, start=record.progress or 0.0, end=1.0)
 
-    def _index(self, record: BagRecord, bag: BagReader) -> tuple[list[str], dict[str, float]]:
-        """The bag's columnar index (reused when this process already has a usable one, else built),
-        and the header-stamp rate of each indexed topic that has sane header stamps."""
-        if (existing := ColumnIndex.load(self._files.index_dir(record))) is not None:
-            return record.index_files, existing.header_rates()
+    def _index(self, record: BagRecord, bag: BagReader, found: BagSummary) -> tuple[list[str], dict[str, float]]:
+        """The bag's columnar index with the views' files (reused when this process already has a usable
+        one, else built), and the header-stamp rate of each indexed topic that has sane header stamps."""
+        directory = self._files.index_dir(record)
+        if directory is not None and (existing := ColumnIndex.load(directory)) is not None:
+            rates = existing.header_rates()
+            summary = CatalogSummary.of(found, header_rates=rates)
+            return self._views.reused(record, summary, existing, directory), rates
         with tempfile.TemporaryDirectory(prefix="bagmcp-index-") as tmp:
             build_index(bag, Path(tmp) / "columns", progress=self._progress(record))
             built = ColumnIndex.load(Path(tmp) / "columns")
             assert built is not None
-            return self._indexes.publish_index(record, Path(tmp) / "columns"), built.header_rates()
+            rates = built.header_rates()
+            summary = CatalogSummary.of(found, header_rates=rates)
+            self._views.into(Path(tmp) / "columns", IngestedBag(record, summary, built))
+            return self._indexes.publish_index(record, Path(tmp) / "columns"), rates

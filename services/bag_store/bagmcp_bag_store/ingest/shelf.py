@@ -63,7 +63,8 @@ class Shelf:
         return again
 
     def remove(self, record: BagRecord) -> None:
-        """Remove a bag's catalog entry, objects and index (catalog first, so it vanishes at once)."""
+        """Remove a bag's catalog entry, objects and index with its views' files (catalog first, so it
+        vanishes at once)."""
         if not record.in_store:
             raise ReadOnlyError(f"bag {record.name} is part of the served folder; remove it there, not through bagmcp")
         self._catalog.delete(record.id)

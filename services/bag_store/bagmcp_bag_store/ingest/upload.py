@@ -26,6 +26,8 @@ _SUFFIXES = {
     BagFormat.MCAP: ".mcap",
     BagFormat.ROS2_SQLITE3: ".db3",
     BagFormat.ROS2_MCAP: ".mcap",
+    BagFormat.ULOG: ".ulg",
+    BagFormat.DATAFLASH: ".bin",
 }
 _ARCHIVE_SUFFIXES = (".tar.gz", ".tgz", ".tar", ".zip")
 
@@ -92,7 +94,7 @@ async def receive(chunks: AsyncIterator[bytes], directory: Path, *, max_bytes: i
 def sanitize_name(text: str) -> str:
     """A bag name safe in URLs, object keys and shells: [A-Za-z0-9._-], at most 100 characters."""
     base = text.strip()
-    for suffix in (*_ARCHIVE_SUFFIXES, ".bag", ".mcap", ".db3", ".ulg", ".ulog"):
+    for suffix in (*_ARCHIVE_SUFFIXES, ".bag", ".mcap", ".db3", ".ulg", ".ulog", ".bin", ".BIN"):
         base = base.removesuffix(suffix)
     clean = re.sub(r"[^A-Za-z0-9._-]+", "_", Path(base).name).strip("._-")[:100]
     if not clean:

@@ -104,6 +104,7 @@ def describe_topic(access: BagAccess, bag: str, topic: str, *, budget_bytes: int
         conn = ob.reader.topic_connections(topic)[0]
         store = ob.reader.decoder.typestore(conn.msgtype)
         paths = field_paths(store, conn.msgtype)
+        stated = ob.reader.decoder.units(conn.msgtype)
         stats = ob.topic(conn.topic)
         first = next(ob.reader.messages([conn.topic]), None)
         sample = message_out(ob, first, [], budget_bytes // 2) if first else None
@@ -113,7 +114,7 @@ def describe_topic(access: BagAccess, bag: str, topic: str, *, budget_bytes: int
             type=conn.msgtype,
             count=stats.count,
             rate_hz=stats.rate_hz,
-            fields=[FieldInfo(path=p, type=t, unit=unit_of(p)) for p, t in paths[:MAX_FIELDS]],
+            fields=[FieldInfo(path=p, type=t, unit=stated.get(p) or unit_of(p)) for p, t in paths[:MAX_FIELDS]],
             fields_truncated=len(paths) > MAX_FIELDS,
             sample=sample.data if sample else None,
             sample_time=sample.time if sample else None,

@@ -4,7 +4,9 @@ from __future__ import annotations
 
 from mcp.server.mcpserver import MCPServer
 
+from bagmcp_bag_store.fleet.service import Fleet
 from bagmcp_bag_store.tools.catalog_tools import CatalogTools
+from bagmcp_bag_store.tools.fleet_tools import FleetTools, views_resource
 from bagmcp_bag_store.tools.message_tools import MessageTools
 from bagmcp_bag_store.tools.search_tools import SearchTools
 from bagmcp_kit.ingest_wait import IngestWait
@@ -12,14 +14,19 @@ from bagmcp_kit.longwork import LongWork
 from bagmcp_kit.server import Guard, new_server
 from bagmcp_shared.access import BagAccess
 
-PURPOSE = "Robot bags: list them, inspect topics, read and search messages, cut new bags."
+PURPOSE = "Robot bags: list them, inspect topics, read and search messages, cut new bags, query across bags."
 
 
-def build_server(access: BagAccess, work: LongWork, *, budget_bytes: int, guard: Guard | None = None) -> MCPServer:
+def build_server(
+    access: BagAccess, work: LongWork, fleet: Fleet, *, budget_bytes: int, guard: Guard | None = None
+) -> MCPServer:
     tools = [
         CatalogTools(access, budget_bytes=budget_bytes),
         MessageTools(access, budget_bytes=budget_bytes),
         SearchTools(access, work),
+        FleetTools(fleet, work),
     ]
     ingest = IngestWait(access.catalog, work.budget_s)
-    return new_server("bagmcp-bag-store", purpose=PURPOSE, tools=tools, guard=guard, ingest=ingest)
+    server = new_server("bagmcp-bag-store", purpose=PURPOSE, tools=tools, guard=guard, ingest=ingest)
+    views_resource(server)
+    return server

@@ -17,7 +17,7 @@ from bagmcp_kit.arguments import READ_ONLY, WRITES, BagRef, TimeArg, TopicName, 
 from bagmcp_kit.jobs import LongAnswer
 from bagmcp_kit.toolsets import BagTools, tool
 
-Format = Literal["ros1", "ros2-sqlite3", "ros2-mcap"]  # OutputFormat's values, inline in the schema
+Format = Literal["ros1", "ros2-sqlite3", "ros2-mcap", "mcap-json"]  # OutputFormat's values, inline in the schema
 ConditionValue = Annotated[
     JsonValue,
     Field(description="number, text, [low, high] (between) or {x, y, radius} m (near_position)"),

@@ -107,7 +107,7 @@ class PlotTools(BagTools):
         )
         if answer.structured_content is not None and "job" in answer.structured_content:
             answer.content.append(TextContent(type="text", text=_how_to_see(tool)))
-        return await add_view(answer, lambda: self._view(kind, params, answer))
+        return await add_view(ctx, answer, lambda: self._view(kind, params, answer))
 
     def _view(self, kind: JobKind[Any, PlotReport], params: BaseModel, answer: CallToolResult) -> View:
         """What the MCP Apps viewer and the web console draw for this plot (views.py)."""

@@ -55,6 +55,8 @@ async def test_every_tool_declares_its_annotations_and_output_schema(served: InP
         "get_messages_in_range",
         "search_messages",
         "filter_bag",
+        "query_bags",
+        "find_bags",
     }
     for tool in tools:
         hints = tool.annotations

@@ -29,7 +29,7 @@ from bagmcp_shared.errors import TopicNotFoundError
 from tests.fixtures import scenario as sc
 from tests.fixtures.bagfactory import BagKind, make, scenario_typestore
 
-ALL_FORMATS = tuple(OutputFormat)
+ALL_FORMATS = tuple(f for f in OutputFormat if f is not OutputFormat.MCAP_JSON)  # the ROS formats
 NATIVE: dict[BagFormat, OutputFormat] = {
     BagFormat.ROS1: OutputFormat.ROS1,
     BagFormat.ROS2_SQLITE3: OutputFormat.ROS2_SQLITE3,

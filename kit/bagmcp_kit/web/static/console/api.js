@@ -130,7 +130,7 @@
   }
 
   ns.api = {
-    ApiError, token, setToken, signOut, request, upload, callTool, callToolOk, resultText,
+    open: false, ApiError, token, setToken, signOut, request, upload, callTool, callToolOk, resultText,
     get: (path) => request("GET", path), del: (path) => request("DELETE", path), post: (path, body) => request("POST", path, body),
   };
 })(window.BagViews = window.BagViews || {});

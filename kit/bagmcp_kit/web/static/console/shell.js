@@ -28,9 +28,9 @@
   async function show() {
     if (leave) { try { leave(); } catch (_) { /* a page's cleanup never blocks the next page */ } leave = null; }
     const main = ns.clear(document.getElementById("main"));
-    const signedIn = Boolean(ns.api.token());
+    const signedIn = Boolean(ns.api.token()) || ns.api.open;
     document.getElementById("nav").hidden = !signedIn;
-    document.getElementById("signout").hidden = !signedIn;
+    document.getElementById("signout").hidden = !ns.api.token();
     const { name, args } = signedIn ? parseHash() : { name: "signin", args: [] };
     document.querySelectorAll("nav a").forEach((a) => {
       if (a.getAttribute("href") === "#/" + name) a.setAttribute("aria-current", "page"); else a.removeAttribute("aria-current");

@@ -12,15 +12,23 @@
   const topicsOf = (bag, pattern) => ((bag.summary && bag.summary.topics) || []).filter((t) => !pattern || pattern.test(t.type));
   const result = (answer) => (answer.structuredContent && answer.structuredContent.result) || answer.structuredContent || {};
   const viewOf = (answer) => (answer._meta && answer._meta[VIEW_KEY]) || null;
-  /* A tool answer; work that became a job is remembered for the Jobs page and reported as such. */
-  async function call(name, args) {
+  /* A tool answer. Work that outlives its time budget becomes a job: it is listed on the Jobs page and
+     followed here (get_job each second) until it ends; then a plot is asked again (it is stored, so it
+     answers at once, with its view), and an analysis answers with the job's result (numbers, no drawing). */
+  async function call(name, args, onProgress) {
     const answer = await ns.api.callToolOk(name, args);
     const job = answer.structuredContent && answer.structuredContent.job;
-    if (job) {
-      ns.rememberJob(job, name + " on " + args.bag);
-      throw new Error("Still running as job " + job.job_id + " (" + Math.round(job.progress * 100) + "%); follow it on the Jobs page and open this tab again when it is done.");
+    if (!job) return answer;
+    ns.rememberJob(job, name + " on " + args.bag);
+    for (;;) {
+      await new Promise((resolve) => setTimeout(resolve, 1000));
+      const now = (await ns.api.callToolOk("get_job", { job_id: job.job_id })).structuredContent;
+      if (onProgress) onProgress(now);
+      if (now.state === "succeeded") {
+        return name.startsWith("plot_") ? ns.api.callToolOk(name, args) : { structuredContent: { result: now.result }, content: [] };
+      }
+      if (now.state === "failed" || now.state === "cancelled") throw new Error("job " + job.job_id + " " + now.state + ": " + (now.error || now.message));
     }
-    return answer;
   }
   const busy = (box, text) => ns.replace(box, el("p", { class: "muted", role: "status" }, text));
 
@@ -42,18 +50,31 @@
       const numeric = (answer.structuredContent.fields || []).filter((f) => /^(float|int|uint|bool|byte|char)/.test(f.type));
       ns.replace(field.node, numeric.map((f) => el("option", { value: f.path }, f.path + (f.unit ? " [" + f.unit + "]" : ""))));
     }
+    let latest = 0;
+    /* Only the latest request's answer is drawn (an earlier, slower one must not replace it). */
     async function draw() {
-      busy(out, "Reading " + topic.node.value + "." + field.node.value + "…");
-      const answer = await call("plot_timeseries", { bag: bag.id, paths: [topic.node.value + "." + field.node.value] });
+      const mine = ++latest;
+      const path = topic.node.value + "." + field.node.value;
+      busy(out, "Reading " + path + "…");
+      let answer;
+      try {
+        answer = await call("plot_timeseries", { bag: bag.id, paths: [path] },
+          (now) => busy(out, "Reading " + path + " as job " + now.job_id + ": " + Math.round(now.progress * 100) + "%"));
+      } catch (err) {
+        if (mine === latest) throw err;
+        return;
+      }
+      if (mine !== latest) return;
       const view = viewOf(answer);
       ns.clear(out);
       if (view) ns.timeseries(out, view, {}); else out.appendChild(el("p", {}, ns.api.resultText(answer)));
     }
+    /* A failure shows beside the controls, which stay usable. */
     const guard = (fn) => () => fn().catch((err) => ns.replace(out, ns.shell.errorBox(err)));
     topic.node.addEventListener("change", guard(fields));
     go.addEventListener("click", guard(draw));
-    await fields();
-    if (field.node.options.length) await draw();
+    await guard(fields)();
+    if (field.node.options.length) await guard(draw)();
   }
 
   function numbersTable(panel, rows) {
@@ -141,20 +162,28 @@
     const when = el("output", { for: "image-time" }, fmt.seconds(0));
     const out = el("div", { id: "image-out" });
     panel.append(el("div", { class: "row" }, topic.field, el("div", { class: "field" }, el("label", { for: "image-time" }, "Time"), time), when), out);
-    let pending = null;
+    let pending = null, latest = 0;
+    /* Only the answer to the latest request is shown (a slow earlier one must not replace it). */
     async function show() {
-      const answer = await ns.api.callToolOk("get_image_at_time", { bag: bag.id, topic: topic.node.value, time: Number(time.value) });
-      const picture = (answer.content || []).find((b) => b.type === "image");
-      const r = answer.structuredContent || {};
-      ns.replace(out, picture ? el("img", { class: "picture", src: "data:" + picture.mimeType + ";base64," + picture.data,
-        alt: topic.node.value + " at " + fmt.seconds(r.time ? r.time.offset_s : Number(time.value)) }) : null,
-        el("p", { class: "muted" }, ns.api.resultText(answer)));
+      const mine = ++latest;
+      const request = { bag: bag.id, topic: topic.node.value, time: Number(time.value) };
+      let shownNodes;
+      try {
+        const answer = await ns.api.callToolOk("get_image_at_time", request);
+        const picture = (answer.content || []).find((b) => b.type === "image");
+        const r = answer.structuredContent || {};
+        shownNodes = [picture ? el("img", { class: "picture", src: "data:" + picture.mimeType + ";base64," + picture.data,
+          alt: request.topic + " at " + fmt.seconds(r.time ? r.time.offset_s : request.time) }) : null,
+          el("p", { class: "muted" }, ns.api.resultText(answer))];
+      } catch (err) {
+        shownNodes = [ns.shell.errorBox(err)];
+      }
+      if (mine === latest) ns.replace(out, shownNodes);
     }
-    const shown = () => show().catch((e) => ns.replace(out, ns.shell.errorBox(e)));
-    const later = () => { when.textContent = fmt.seconds(Number(time.value)); clearTimeout(pending); pending = setTimeout(shown, 250); };
+    const later = () => { when.textContent = fmt.seconds(Number(time.value)); clearTimeout(pending); pending = setTimeout(show, 250); };
     time.addEventListener("input", later);
     topic.node.addEventListener("change", later);
-    await shown();
+    await show();
   }
 
   ns.bagViews = { plot, trajectory, scan, logs, tf, image };

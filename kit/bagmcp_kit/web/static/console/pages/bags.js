@@ -62,7 +62,7 @@
     }
     ns.uploadBox(uploadBox, refresh);
     await refresh();
-    ns.consoleAdmin();
+    ns.consoleAdmin().catch(() => { /* the menu stays as it is */ });
     return ns.shell.every(PERIOD_MS, refresh);
   });
 })(window.BagViews = window.BagViews || {});

@@ -4,12 +4,11 @@
   "use strict";
   const { el } = ns;
 
-  async function isAdmin() {
-    try { await ns.api.get("/api/v1/tokens"); return true; } catch (_) { return false; }
-  }
-
+  /* What this token may do (GET /api/v1/session); the Tokens page shows only to admins of a server that
+     manages tokens. */
   ns.consoleAdmin = async function refreshAdmin() {
-    const admin = await isAdmin();
+    const session = await ns.api.get("/api/v1/session");
+    const admin = session.tokens_managed && session.scopes.includes("admin");
     document.getElementById("nav-tokens").hidden = !admin;
     return admin;
   };
@@ -30,7 +29,7 @@
       if (!value) { message.textContent = "Enter a token."; return; }
       ns.api.setToken(value);
       try {
-        await ns.api.get("/api/v1/bags?limit=1");
+        await ns.api.get("/api/v1/session");
       } catch (err) {
         ns.api.signOut();
         message.textContent = err.status === 401 ? "This token is not valid here: check it, or ask an admin for a new one." : err.message;

@@ -1,0 +1,132 @@
+"""Questions across bags in both ways of running, over HTTP: ``bagmcp serve`` over the drive bags and the
+stack with them uploaded. query_bags and find_bags agree with the per-bag tools; GET /api/v1/query answers
+JSON, CSV and Parquet under the same rules; a limited token sees only what its tools would (its own
+``x-bagmcp-tools`` header changes nothing); deleting a bag removes its Parquet files."""
+
+from __future__ import annotations
+
+import io
+import json
+from collections.abc import Iterator
+from pathlib import Path
+
+import anyio
+import httpx
+import pyarrow.parquet as pq
+import pytest
+
+from bagmcp_kit.identity import TOOLS_HEADER
+from tests.checks.fleet_checks import check_fleet, check_refusals, query
+from tests.fixtures.bagfactory import BagKind
+from tests.fixtures.drive_bags import write_drive_bags
+from tests.fixtures.inprocess import copy_bags
+from tests.fixtures.mcp_client import call_error, http_client
+from tests.fixtures.processes import BIN, http_ok, service
+from tests.fixtures.servers import free_port
+from tests.integration.stack import TOKEN, Stack, bagmcp, new_token
+
+pytestmark = pytest.mark.anyio
+ADMIN = "fleet-admin-token"
+SPEEDS = "SELECT bag, max(speed) AS top FROM poses WHERE topic = '/odom' GROUP BY bag ORDER BY bag"
+LIMITED = ("--allow", "query_bags", "--allow", "analyze_trajectory", "--allow", "get_job")
+
+
+@pytest.fixture(scope="module")
+def drive_bags(tmp_path_factory: pytest.TempPathFactory) -> dict[BagKind, Path]:
+    return write_drive_bags(tmp_path_factory.mktemp("drive"))
+
+
+@pytest.fixture(scope="module")
+def served(drive_bags: dict[BagKind, Path], tmp_path_factory: pytest.TempPathFactory) -> Iterator[tuple[str, Path]]:
+    folder = copy_bags(list(drive_bags.values()), tmp_path_factory.mktemp("fleet-serve") / "bags")
+    data, port = tmp_path_factory.mktemp("fleet-data"), free_port()
+    url = f"http://127.0.0.1:{port}"
+    command = [str(BIN / "bagmcp"), "serve", "--bags", str(folder), "--port", str(port), "--token", ADMIN]
+    command += ["--data", str(data)]
+    logs = tmp_path_factory.mktemp("logs")
+    with service("fleet-serve", command, env={}, log_dir=logs, ready=http_ok(f"{url}/healthz")):
+        yield url, data
+
+
+@pytest.fixture(scope="module")
+def stack_drive(stack: Stack, drive_bags: dict[BagKind, Path]) -> list[str]:
+    names = [str(stack.upload_ok(path)["name"]) for path in drive_bags.values()]
+    anyio.run(stack.wait_ready, names)
+    return names
+
+
+async def _ready(url: str, token: str, count: int) -> None:
+    async with http_client(f"{url}/mcp", token) as client:
+        with anyio.fail_after(120):
+            while (await query(client, "SELECT count(*) FROM bags"))["rows"][0][0] < count:
+                await anyio.sleep(0.3)
+
+
+def _rest(url: str, token: str, sql: str, form: str = "json", **headers: str) -> httpx.Response:
+    auth = {"Authorization": f"Bearer {token}", **headers}
+    return httpx.get(f"{url}/api/v1/query", params={"sql": sql, "format": form}, headers=auth, timeout=60)
+
+
+def _check_rest(url: str, token: str, expected: dict[str, float]) -> None:
+    answer = _rest(url, token, SPEEDS).json()
+    speeds = {row[0]: row[1] for row in answer["rows"]}
+    assert {name: speeds[name] for name in expected} == pytest.approx(expected)
+    csv = _rest(url, token, SPEEDS, "csv")
+    assert csv.headers["content-type"].startswith("text/csv")
+    assert csv.text.splitlines()[0] == '"bag","top"'
+    parquet = _rest(url, token, SPEEDS, "parquet")
+    table = pq.read_table(io.BytesIO(parquet.content))
+    assert dict(zip(table.column("bag").to_pylist(), table.column("top").to_pylist(), strict=True)) == pytest.approx(
+        speeds
+    )
+    assert parquet.headers["x-total-rows"] == str(len(speeds))
+    refused = _rest(url, token, "COPY poses TO '/tmp/x.csv'")
+    assert refused.status_code == 400
+    assert "only SELECT" in refused.json()["error"]["message"]
+
+
+async def _check_limited(url: str, token: str, no_query: str) -> None:
+    async with http_client(f"{url}/mcp", token) as client:
+        await query(client, SPEEDS)
+        assert "may not read the logs view" in await call_error(client, "query_bags", sql="SELECT * FROM logs")
+    forged = _rest(url, token, "SELECT count(*) FROM logs", **{TOOLS_HEADER: "query_bags,analyze_logs"})
+    assert forged.status_code == 403
+    assert _rest(url, token, SPEEDS).status_code == 200
+    assert _rest(url, no_query, SPEEDS).status_code == 403
+
+
+async def test_serve_answers_across_bags_like_the_per_bag_tools(served: tuple[str, Path]) -> None:
+    url, data = served
+    await _ready(url, ADMIN, 3)
+    names = ["drive", "drive_db3", "drive_mcap"]
+    async with http_client(f"{url}/mcp", ADMIN) as client:
+        await check_fleet(client, names)
+        await check_refusals(client)
+        speeds = {row[0]: row[1] for row in (await query(client, SPEEDS))["rows"]}
+    _check_rest(url, ADMIN, speeds)
+    limited = json.loads(bagmcp("token", "create", "traj", *LIMITED, "--data", str(data), "--json").stdout)["token"]
+    lister = json.loads(
+        bagmcp("token", "create", "lister", "--allow", "list_bags", "--data", str(data), "--json").stdout
+    )
+    await _check_limited(url, limited, lister["token"])
+
+
+async def test_the_stack_answers_across_bags_like_the_per_bag_tools(stack: Stack, stack_drive: list[str]) -> None:
+    async with http_client(f"{stack.url}/mcp", TOKEN) as client:
+        await check_fleet(client, stack_drive)
+        speeds = {row[0]: row[1] for row in (await query(client, SPEEDS))["rows"]}
+    _check_rest(stack.url, TOKEN, {name: speeds[name] for name in stack_drive})
+    await _check_limited(
+        stack.url, new_token(stack, "traj", *LIMITED), new_token(stack, "lister", "--allow", "list_bags")
+    )
+
+
+async def test_deleting_a_bag_removes_its_parquet_files_and_its_rows(stack: Stack, stack_drive: list[str]) -> None:
+    bag = stack.bags()[stack_drive[1]]
+    views = f"indexes/{bag['id']}/columns/fleet."
+    assert len([key for key in stack.objects() if key.startswith(views)]) == 9  # every view but battery
+    assert stack.rest("DELETE", f"bags/{bag['id']}").status_code == 204
+    assert not [key for key in stack.objects() if bag["id"] in key]
+    async with http_client(f"{stack.url}/mcp", TOKEN) as client:
+        names = {row[0] for row in (await query(client, "SELECT bag FROM bags"))["rows"]}
+    assert stack_drive[1] not in names

@@ -1,0 +1,68 @@
+"""The views' files: one Parquet file per view per bag, written at ingest into the bag's index directory (in
+the data directory, embedded) and listed with its files, with the views' columns; a ready bag whose index
+lacks them is queued at start and gets them added to its index, from the index, without indexing again."""
+
+from __future__ import annotations
+
+import shutil
+from pathlib import Path
+
+import pyarrow.parquet as pq
+
+from bagmcp_bag_store.fleet.backfill import queue_fleet_backfill
+from bagmcp_bag_store.fleet.files import FleetFiles, file_name, has_views
+from bagmcp_bag_store.fleet.views import VIEWS
+from bagmcp_bag_store.ingest.ingest import Ingestor
+from bagmcp_shared.catalog import BagRecord
+from tests.fixtures.drive_bags import expected_topic_counts
+from tests.fixtures.inprocess import InProcess
+from tests.unit.conftest import DRIVE_NAMES
+
+WRITTEN = ["bags", "topics", "poses", "twists", "imu", "gps", "scans", "logs", "tf_edges"]  # the drives have no battery
+
+
+def _record(served: InProcess, name: str) -> BagRecord:
+    record = served.composition.embedded.resources.catalog.named(name)
+    assert record is not None
+    return record
+
+
+def test_ingest_writes_each_view_with_rows_into_the_index_with_the_views_columns(served_drive: InProcess) -> None:
+    res = served_drive.composition.embedded.resources
+    for name in DRIVE_NAMES:
+        record = _record(served_drive, name)
+        directory = res.files.index_dir(record)
+        assert directory is not None
+        assert sorted(n for n in record.index_files if n.startswith("fleet.")) == sorted(map(file_name, WRITTEN))
+        for kind in WRITTEN:
+            assert pq.read_table(directory / file_name(kind)).column_names == VIEWS[kind].names, kind
+        files = FleetFiles(res.store, res.files)
+        poses, battery = files.read("poses", record), files.read("battery", record)
+        assert poses is not None
+        assert battery is not None
+        assert poses.num_rows == expected_topic_counts("ros1")["/odom"]
+        assert set(poses.column("bag").to_pylist()) == {name}
+        assert battery.num_rows == 0
+
+
+def test_a_ready_bag_whose_index_lacks_the_views_gets_them_from_its_index(
+    served_drive: InProcess, tmp_path: Path
+) -> None:
+    res = served_drive.composition.embedded.resources
+    record = _record(served_drive, "drive_mcap")
+    directory = res.files.index_dir(record)
+    assert directory is not None
+    older = tmp_path / "columns"
+    shutil.copytree(directory, older, ignore=shutil.ignore_patterns(".*", "fleet.*"))
+    names = res.indexes.publish_index(record, older)
+    res.catalog.replace(record.model_copy(update={"index_files": names}))
+    assert not has_views(_record(served_drive, "drive_mcap"))
+    queued: list[str] = []
+    assert queue_fleet_backfill(res.catalog, queued.append) == [record.id]
+    assert Ingestor(res.catalog, res.files, res.indexes, res.store).ingest(record.id) == "ready"
+    again = _record(served_drive, "drive_mcap")
+    assert has_views(again)
+    scans = FleetFiles(res.store, res.files).read("scans", again)
+    assert scans is not None
+    assert scans.num_rows == expected_topic_counts("ros2-mcap")["/scan"]
+    assert queue_fleet_backfill(res.catalog, queued.append) == []
