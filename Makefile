@@ -4,7 +4,7 @@ VENV   := .venv
 PY     := $(VENV)/bin/python
 BAGS   ?= ../shared/data/bags
 STAMP  := $(VENV)/.installed-stamp
-PACKAGES := shared/pyproject.toml kit/pyproject.toml gateway/pyproject.toml services/bag_store/pyproject.toml services/analysis/pyproject.toml services/plotting/pyproject.toml cli/pyproject.toml
+PACKAGES := shared/pyproject.toml kit/pyproject.toml gateway/pyproject.toml services/bag_store/pyproject.toml services/analysis/pyproject.toml services/plotting/pyproject.toml lab/pyproject.toml cli/pyproject.toml
 
 .PHONY: install run stack test lint typecheck pytest browser bench bench-fleet bench-quick docs-images lock clean
 

@@ -18,6 +18,7 @@ from bagmcp_gateway.tokens.models import token_hash
 from bagmcp_gateway.upstreams import Upstream
 from bagmcp_kit.job_tools import build_jobs_server
 from bagmcp_kit.parts import ServicePart
+from bagmcp_lab.server.embedded import lab_in_process
 from bagmcp_plotting.embedded import embedded_part as plotting_part
 from bagmcp_shared.resources import Embedded, embedded_resources
 from bagmcp_shared.settings import HttpSettings
@@ -60,13 +61,16 @@ def create_embedded_app(
         tokens_file=made if token or made.exists() else None,
         rate_limit=settings.rate_limit,
     )
-    return create_app(
+    lab = lab_in_process(settings.lab, port=http.port)
+    app = create_app(
         gateway,
         upstreams=composition.upstreams,
-        rest=[router for part in composition.parts for router in part.routers],
-        statuses=[row for part in composition.parts for row in part.statuses],
+        rest=[*(router for part in composition.parts for router in part.routers), lab.router],
+        statuses=[*(row for part in composition.parts for row in part.statuses), *lab.statuses],
         on_shutdown=composition.embedded.runner.shutdown,
     )
+    lab.attach(app)  # the Lab's agent loops call this app's /mcp in process, with each caller's token
+    return app
 
 
 def create_embedded_server(settings: EmbeddedSettings) -> Server[object]:

@@ -12,6 +12,7 @@ from collections.abc import Callable, Sequence
 from pathlib import Path
 
 from bagmcp_cli.catalog_commands import add_catalog_commands
+from bagmcp_cli.lab_commands import add_lab_commands
 from bagmcp_cli.surface_commands import add_surface_commands
 from bagmcp_cli.token_commands import add_token_commands
 from bagmcp_cli.urls import base_url
@@ -145,6 +146,7 @@ def build_parser() -> argparse.ArgumentParser:
     add_token_commands(commands)
     add_surface_commands(commands)
     add_catalog_commands(commands)
+    add_lab_commands(commands)
     return parser
 
 

@@ -21,7 +21,8 @@ def main() -> None:
     if settings.redis_url is not None:  # the jobs of every service, followed here with get_job / cancel_job
         jobs = build_jobs_server(RedisJobStore(redis_client(settings.redis_url)))
         upstreams.append(Upstream(name="jobs", server=jobs))
-    app = create_app(settings, upstreams=upstreams, rest=[build_proxy(settings.rest_routes, settings.service_token)])
+    proxy = build_proxy(settings.rest_routes, settings.service_token, caller_segments=settings.caller_routes)
+    app = create_app(settings, upstreams=upstreams, rest=[proxy])
     serve(app, settings.http)
 
 

@@ -21,6 +21,7 @@ from bagmcp_gateway.catalog import ToolCatalog
 from bagmcp_gateway.connections import Connections
 from bagmcp_gateway.console import build_session_router, install_console
 from bagmcp_gateway.events import RedisSubscriptionBus, channel_for
+from bagmcp_gateway.lab_routes import install_lab_page
 from bagmcp_gateway.metrics import GatewayMetrics
 from bagmcp_gateway.ratelimit import MemoryRateLimiter, RateLimiter, RedisRateLimiter
 from bagmcp_gateway.settings import GatewaySettings
@@ -161,5 +162,6 @@ def create_app(
         return Response(gateway.metrics.exposition(), media_type=gateway.metrics.content_type)
 
     install_console(app, token_required=verifier is not None)
+    install_lab_page(app)
     app.mount("/", UniformErrors(mcp_app))
     return app

@@ -91,8 +91,9 @@ class GatewaySettings:
     no authentication (only for a loopback embedded server). Every token in ``token_hashes`` has every scope
     (the development token).
 
-    ``rest_routes`` maps the first segment under /api/v1 (``bags``, ``artifacts``) to the service that
-    serves it; ``redis_url`` holds the shared job store, the team's tokens, the rate limits and the change
+    ``rest_routes`` maps the first segment under /api/v1 (``bags``, ``artifacts``, ``lab``) to the service
+    that serves it; those in ``caller_routes`` also get the caller's own token (the Lab acts for the caller);
+    ``redis_url`` holds the shared job store, the team's tokens, the rate limits and the change
     events every replica tells its clients. ``instructions`` replaces what the upstreams' instructions say."""
 
     upstreams: list[Upstream] = field(default_factory=list)
@@ -101,6 +102,7 @@ class GatewaySettings:
     http: HttpSettings = field(default_factory=HttpSettings)
     public_url: str = "http://127.0.0.1:8080"
     rest_routes: dict[str, str] = field(default_factory=dict)
+    caller_routes: tuple[str, ...] = ("lab",)
     redis_url: str | None = None
     tokens_file: Path | None = None
     jwt: JwtSettings | None = None
@@ -141,6 +143,7 @@ class GatewaySettings:
             http=http,
             public_url=env.text("BAGMCP_PUBLIC_URL", f"http://{http.host}:{http.port}"),
             rest_routes=parse_routes(env.text("BAGMCP_REST_ROUTES", "")),
+            caller_routes=env.items("BAGMCP_CALLER_TOKEN_ROUTES", ("lab",)),
             redis_url=redis_url,
             jwt=jwt_settings,
             policy=ToolPolicy(

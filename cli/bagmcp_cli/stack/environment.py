@@ -25,6 +25,7 @@ DEFAULT_PORTS = {
     "BAG_STORE_PORT": 8001,
     "ANALYSIS_PORT": 8002,
     "PLOTTING_PORT": 8003,
+    "LAB_PORT": 8004,
     "REDIS_PORT": 6390,
     "S3_PORT": 8333,
 }
@@ -135,8 +136,9 @@ def derived(stack_dir: Path, ports: Mapping[str, int], chosen: Mapping[str, str]
         "BAGMCP_S3_BUCKET": env.text("BAGMCP_S3_BUCKET", "bagmcp"),
         "BAGMCP_REDIS_URL": f"redis://:{chosen['BAGMCP_REDIS_PASSWORD']}@127.0.0.1:{ports['REDIS_PORT']}/0",
         "BAGMCP_UPSTREAMS": f"bag-store={bag_store}/mcp,analysis={analysis}/mcp,plotting={plotting}/mcp",
-        "BAGMCP_REST_ROUTES": f"bags={bag_store},query={bag_store},artifacts={plotting}",
+        "BAGMCP_REST_ROUTES": f"bags={bag_store},query={bag_store},artifacts={plotting},lab=http://127.0.0.1:{ports['LAB_PORT']}",
         "BAGMCP_ARTIFACT_BASE_URL": gateway,
+        "BAGMCP_LAB_GATEWAY_URL": f"{gateway}/mcp",
     }
 
 

@@ -22,7 +22,7 @@ from tests.fixtures.servers import free_ports
 def held() -> Iterator[list[int]]:
     """Six ports held by listening sockets for the test (the "defaults" it gives the stack)."""
     with ExitStack() as stack:
-        sockets = [stack.enter_context(socket.socket()) for _ in range(6)]
+        sockets = [stack.enter_context(socket.socket()) for _ in environment.DEFAULT_PORTS]
         for sock in sockets:
             sock.bind(("127.0.0.1", 0))
             sock.listen()
@@ -41,14 +41,14 @@ def test_taken_defaults_are_replaced_by_free_ports_and_kept_for_the_next_start(
     chosen = {name: int(first[name]) for name in environment.DEFAULT_PORTS}
     assert not set(chosen.values()) & set(held)
     occupied = [p for name, port in chosen.items() for p in ports_of(name, port)]
-    assert len(occupied) == len(set(occupied)) == 6 + 7  # the S3 server's block has eight ports
+    assert len(occupied) == len(set(occupied)) == len(chosen) + 7  # the S3 server's block has eight ports
     again = stack_settings(_env(tmp_path / "a"), starting=True)
     assert {name: int(again[name]) for name in chosen} == chosen
     assert again["BAGMCP_SERVICE_TOKEN"] == first["BAGMCP_SERVICE_TOKEN"]
 
 
 def test_free_defaults_are_used_and_given_ports_win(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
-    free = free_ports(5)
+    free = free_ports(len(environment.DEFAULT_PORTS) - 1)
     defaults = dict(zip(environment.DEFAULT_PORTS, [*free, 0], strict=True))
     defaults["S3_PORT"] = next(p for p in range(24000, 30000, 37) if ports_free("S3_PORT", p, set(free)))
     monkeypatch.setattr(environment, "DEFAULT_PORTS", defaults)

@@ -17,12 +17,14 @@ PACKAGES = {
     "bagmcp_bag_store": ROOT / "services" / "bag_store" / "bagmcp_bag_store",
     "bagmcp_analysis": ROOT / "services" / "analysis" / "bagmcp_analysis",
     "bagmcp_plotting": ROOT / "services" / "plotting" / "bagmcp_plotting",
+    "bagmcp_lab": ROOT / "lab" / "bagmcp_lab",
 }
 ALLOWED = {
     "bagmcp_shared": {"bagmcp_shared"},
     "bagmcp_kit": {"bagmcp_kit", "bagmcp_shared"},
     "bagmcp_gateway": {"bagmcp_gateway", "bagmcp_kit", "bagmcp_shared"},
     **{service: {service, "bagmcp_kit", "bagmcp_shared"} for service in SERVICES},
+    "bagmcp_lab": {"bagmcp_lab", "bagmcp_kit", "bagmcp_shared"},  # an MCP client of the gateway, like any other
 }
 
 

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import pytest
 
-from bagmcp_gateway.proxy import route_of
+from bagmcp_gateway.proxy import forwarded_headers, route_of
 
 ROUTES = {"bags": "http://bag-store:8001", "artifacts": "http://plotting:8003"}
 
@@ -42,3 +42,15 @@ def test_configured_routes_are_forwarded_to_their_service(path: str, base: str) 
 )
 def test_anything_else_is_refused(path: str) -> None:
     assert route_of(path, ROUTES) is None
+
+
+def test_only_the_lab_gets_the_callers_token_and_no_client_can_forge_it() -> None:
+    sent = {"Authorization": "Bearer caller-token", "X-Bagmcp-Caller": "Bearer forged", "Accept": "application/json"}
+    to_lab = forwarded_headers(sent, "lab/runs", service_token="service", caller_segments=("lab",))
+    assert to_lab == {
+        "Accept": "application/json",
+        "authorization": "Bearer service",
+        "x-bagmcp-caller": "Bearer caller-token",
+    }
+    to_bags = forwarded_headers(sent, "bags/run1", service_token="service", caller_segments=("lab",))
+    assert to_bags == {"Accept": "application/json", "authorization": "Bearer service"}

@@ -1,0 +1,84 @@
+"""Anthropic's Messages API with tools, through the ``anthropic`` SDK. Tool answers go back as ``tool_result``
+blocks holding the text and the images themselves (Claude sees plots)."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+import anthropic
+from mcp.types import Tool
+
+from bagmcp_lab.errors import ProviderError
+from bagmcp_lab.providers.conversation import ModelReply, ProposedCall, refusal, system_prompt
+from bagmcp_lab.toolbox import ToolAnswer
+
+MAX_OUTPUT_TOKENS = 4096
+
+
+def tool_specs(tools: Sequence[Tool]) -> list[dict[str, Any]]:
+    return [{"name": t.name, "description": t.description or "", "input_schema": t.input_schema} for t in tools]
+
+
+def _result_block(call: ProposedCall, answer: ToolAnswer, *, images: bool) -> dict[str, Any]:
+    content: list[dict[str, Any]] = [{"type": "text", "text": answer.text or "(no text)"}]
+    content += [
+        {"type": "image", "source": {"type": "base64", "media_type": image.mime_type, "data": image.data_base64}}
+        for image in (answer.images if images else ())
+    ]
+    return {"type": "tool_result", "tool_use_id": call.call_id, "content": content, "is_error": answer.is_error}
+
+
+@dataclass
+class AnthropicConversation:
+    client: anthropic.AsyncAnthropic
+    model: str
+    tools: list[dict[str, Any]]
+    messages: list[dict[str, Any]] = field(default_factory=list)
+    system: str = ""
+    images: bool = True
+
+    async def reply(self) -> ModelReply:
+        try:
+            response = await self.client.messages.create(
+                model=self.model,
+                max_tokens=MAX_OUTPUT_TOKENS,
+                system=self.system,
+                messages=self.messages,  # type: ignore[arg-type]
+                tools=self.tools,  # type: ignore[arg-type]
+            )
+        except anthropic.APIStatusError as err:
+            raise ProviderError(f"Anthropic answered {err.status_code}: {refusal(err.body, err.message)}") from None
+        except anthropic.APIError as err:
+            raise ProviderError(f"cannot reach Anthropic ({err.message}); check --base-url and the network") from None
+        blocks = [block.model_dump(mode="json", exclude_none=True) for block in response.content]
+        self.messages.append({"role": "assistant", "content": blocks})
+        text = "\n".join(b["text"] for b in blocks if b.get("type") == "text")
+        calls = tuple(
+            ProposedCall(b["id"], b["name"], b["input"] if isinstance(b.get("input"), dict) else None, str(b["input"]))
+            for b in blocks
+            if b.get("type") == "tool_use"
+        )
+        usage = response.usage
+        return ModelReply(text, calls, usage.input_tokens, usage.output_tokens)
+
+    def add_answers(self, answers: list[tuple[ProposedCall, ToolAnswer]]) -> None:
+        blocks = [_result_block(call, answer, images=self.images) for call, answer in answers]
+        self.messages.append({"role": "user", "content": blocks})
+
+
+def anthropic_conversation(
+    *,
+    model: str,
+    api_key: str,
+    base_url: str | None,
+    tools: Sequence[Tool],
+    history: Sequence[tuple[str, str]],
+    images: bool = True,
+    instructions: str | None = None,
+) -> AnthropicConversation:
+    """``history``: (role, text) pairs of an earlier chat, the last being the user's new question."""
+    client = anthropic.AsyncAnthropic(api_key=api_key, base_url=base_url, max_retries=2)
+    messages = [{"role": role, "content": text} for role, text in history]
+    return AnthropicConversation(client, model, tool_specs(tools), messages, system_prompt(instructions), images)
