@@ -1,4 +1,13 @@
-"""search_messages conditions: parsing the caller's value for each condition, and bounded regexes."""
+"""search_messages conditions: parsing the caller's value for each condition, and bounded regexes.
+
+Regexes run on RE2 (the ``google-re2`` wheel), not on the ``regex`` package: ``regex`` expands counted
+repeats when it compiles, about 270 bytes per copy, so ``a{1000000000}`` (13 characters) grew a server to
+21.9 GB and ``(?:a{1000}){1000}`` costs 262 MB. RE2 refuses a repeat count over 1000 (nested ones
+multiply), holds a compiled pattern and its match cache to ``max_mem`` and matches in time linear in the
+text, so no pattern can take a process's memory or hang a match; what it gives up is lookaround and
+backreferences, which search_messages does not need. Checking ``regex`` patterns by hand instead would be
+a parser of its whole syntax (comments, verbose mode, nested sets) kept in step with the package.
+"""
 
 from __future__ import annotations
 
@@ -6,7 +15,7 @@ import time
 from dataclasses import dataclass
 from typing import Literal, get_args
 
-import regex
+import re2  # type: ignore[import-untyped]  # google-re2 ships no type hints
 from pydantic import JsonValue
 
 from bagmcp_shared.errors import ArgumentError
@@ -29,7 +38,7 @@ TEXT_CONDITIONS = ("contains", "regex")
 NUMERIC_CONDITIONS = ("greater_than", "less_than", "between", "max", "min")
 EXTREME_CONDITIONS = ("max", "min")  # the messages holding the window's largest or smallest value; no value
 MAX_PATTERN = 256
-REGEX_TIMEOUT_S = 0.05
+REGEX_MEMORY_BYTES = 8 << 20  # RE2's own default: a compiled pattern and its match cache
 REGEX_BUDGET_S = 5.0
 
 
@@ -93,25 +102,39 @@ def check_value(condition: str, value: JsonValue) -> None:
         parse_near(value)
 
 
+def _re2_options() -> object:
+    options = re2.Options()
+    options.max_mem = REGEX_MEMORY_BYTES
+    options.log_errors = False  # a caller's bad pattern is their error, not a line in the server log
+    return options
+
+
 class BoundedRegex:
-    """A compiled pattern with a per-match timeout and a total time budget."""
+    """A pattern compiled by RE2 within ``REGEX_MEMORY_BYTES``, with a total time budget over all matches."""
 
     def __init__(self, pattern: str) -> None:
         if len(pattern) > MAX_PATTERN:
             raise ArgumentError(f"regex patterns are limited to {MAX_PATTERN} characters")
         try:
-            self._compiled = regex.compile(pattern)
-        except regex.error as err:
-            raise ArgumentError(f"invalid regex {pattern!r}: {err}") from err
+            self._compiled = re2.compile(pattern, _re2_options())
+        except re2.error as err:
+            raise ArgumentError(f"invalid regex {pattern!r}: {_reason(err)}") from err
         self._spent = 0.0
 
     def search(self, text: str) -> bool:
         began = time.monotonic()
-        try:
-            found = self._compiled.search(text, timeout=REGEX_TIMEOUT_S) is not None
-        except TimeoutError as err:
-            raise ArgumentError("the regex takes too long on this data; simplify the pattern") from err
+        found = self._compiled.search(text) is not None
         self._spent += time.monotonic() - began
         if self._spent > REGEX_BUDGET_S:
             raise ArgumentError(f"the regex used its {REGEX_BUDGET_S:.0f} s budget; narrow the time window")
         return found
+
+
+def _reason(err: Exception) -> str:
+    """RE2's reason in words, with what to do about the two a hostile or ambitious pattern meets."""
+    reason = err.args[0].decode("utf-8", "replace") if err.args and isinstance(err.args[0], bytes) else str(err)
+    if "repetition size" in reason or "too large" in reason:
+        return f"{reason} (RE2 allows repeat counts up to 1000, nested ones multiplied; use + or * instead)"
+    if "perl operator" in reason or "escape sequence" in reason:
+        return f"{reason} (RE2 syntax: no lookaround or backreferences)"
+    return reason
