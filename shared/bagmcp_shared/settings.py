@@ -135,6 +135,33 @@ DEFAULT_OPEN_BAGS = OpenBagLimits()
 
 
 @dataclass(frozen=True)
+class InputBudget:
+    """How much memory one piece of stored input may ask for, checked before it is decompressed or decoded
+    (see bagmcp_shared.budget): a compressed record (MCAP chunk, ROS 1 chunk, zstd storage file) may expand
+    at most ``max_expansion`` times past ``expansion_floor_bytes`` and to at most ``max_record_bytes``; a
+    decoded image at most ``max_image_bytes`` in its own pixel type. Real recordings stay far inside these:
+    the corpus's largest chunk ratio is 31 and MCAP writers' chunks are 1-4 MiB."""
+
+    max_expansion: float = 200.0
+    max_record_bytes: int = 256 << 20
+    max_image_bytes: int = 128 << 20
+    expansion_floor_bytes: int = 64 << 20
+
+    @classmethod
+    def from_env(cls, env: Env) -> InputBudget:
+        return cls(
+            max_expansion=env.number("BAGMCP_MAX_EXPANSION", 200.0),
+            max_record_bytes=env.integer("BAGMCP_MAX_RECORD_BYTES", 256 << 20),
+            max_image_bytes=env.integer("BAGMCP_MAX_IMAGE_BYTES", 128 << 20),
+        )
+
+    def record_limit(self, compressed_bytes: int) -> int:
+        """The most bytes a record of ``compressed_bytes`` may decompress to."""
+        by_ratio = max(self.expansion_floor_bytes, int(self.max_expansion * compressed_bytes))
+        return min(self.max_record_bytes, by_ratio)
+
+
+@dataclass(frozen=True)
 class TeamSettings:
     """What every service process needs in team mode: Redis, S3, the service token, local data."""
 

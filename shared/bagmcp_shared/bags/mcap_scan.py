@@ -25,6 +25,7 @@ from bagmcp_shared.bags.mcap_records import (
     parse,
     pieces,
 )
+from bagmcp_shared.budget import check_record
 
 _PLAUSIBLE_RECORD_BYTES = 1 << 40  # a longer record is garbage, not a recording cut short
 Item = Piece | Schema | Channel | Message
@@ -47,6 +48,9 @@ def _contents(piece: Piece) -> Iterator[Schema | Channel | Message]:
         head = chunk_head(piece.body, whole=True) if piece.complete else cut_chunk_head(piece)
         if head is None:
             return
+        if head.compression:  # refused before anything is decompressed (BAGMCP_MAX_RECORD_BYTES)
+            where = f"the {head.compression} chunk at byte {piece.offset:,}"
+            check_record(where, declared_bytes=head.uncompressed_bytes, compressed_bytes=len(head.data))
         for opcode, body in inner_records(chunk_content(head, whole=piece.complete), whole=piece.complete):
             if (record := parse(opcode, body)) is not None:
                 yield record

@@ -12,10 +12,10 @@ from __future__ import annotations
 import base64
 import json
 import struct
-from collections.abc import Collection, Iterator, Sequence
+from collections.abc import Callable, Collection, Iterator, Sequence
 from dataclasses import replace
 from pathlib import Path
-from typing import BinaryIO
+from typing import BinaryIO, TypeVar
 
 from mcap.exceptions import McapError
 from mcap.reader import SeekingReader
@@ -24,6 +24,7 @@ from mcap.summary import Summary
 from rosbags.typesys.msg import normalize_msgtype
 
 from bagmcp_shared.bags.json_types import infer_schema
+from bagmcp_shared.bags.mcap_chunk_budget import check_chunks
 from bagmcp_shared.bags.mcap_cut_text import cut_error, cut_note
 from bagmcp_shared.bags.mcap_records import RecordError
 from bagmcp_shared.bags.mcap_scan import scan, stream
@@ -40,6 +41,7 @@ _ENCODINGS = {
 }
 _SCHEMA_FORMATS = {"ros1msg": "msg", "ros2msg": "msg", "ros2idl": "idl", "jsonschema": "jsonschema"}
 _SCHEMA_FORMATS |= {"protobuf": "protobuf", "data_tamer": "data_tamer"}
+_T = TypeVar("_T")
 _READ_ERRORS = (McapError, struct.error, ValueError, EOFError, RuntimeError)
 
 
@@ -93,13 +95,22 @@ class McapSource:
             raise DamagedBagError(f"{path}: not a readable MCAP file ({err or type(err).__name__})") from err
         self._summary = self._read_summary(reader)
         self._reader = reader
-        if self._summary is not None:
-            self._connections, self._bounds = self._from_summary(self._summary)
-            chunks = [index.compression for index in self._summary.chunk_indexes]
+        if (summary := self._summary) is not None:
+            self._checked(lambda: check_chunks(self._file, summary.chunk_indexes))
+            self._connections, self._bounds = self._from_summary(summary)
+            chunks = [index.compression for index in summary.chunk_indexes]
         else:
             self._connections, self._bounds, chunks = self._from_scan(recover_truncated)
         self._compression = Compression.of_chunks(chunks)
         self._connections = self._with_inferred_schemas(self._connections)
+
+    def _checked(self, work: Callable[[], _T]) -> _T:
+        """``work()``, whose budget refusal is named with the file and closes it."""
+        try:
+            return work()
+        except UnsupportedFormatError as err:
+            self._file.close()
+            raise UnsupportedFormatError(f"{self._path}: {err}") from err
 
     def _read_summary(self, reader: SeekingReader) -> Summary | None:
         try:
@@ -148,7 +159,7 @@ class McapSource:
         return conns, {}
 
     def _from_scan(self, recover: bool) -> tuple[list[Connection], dict[int, tuple[int, int]], list[str]]:
-        found = scan(self._file, self._path.stat().st_size)
+        found = self._checked(lambda: scan(self._file, self._path.stat().st_size))
         cut = found.cut
         if cut is None:
             self._notes.append(

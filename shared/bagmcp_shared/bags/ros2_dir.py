@@ -16,6 +16,7 @@ from bagmcp_shared.bags.mcap_source import McapSource
 from bagmcp_shared.bags.models import BagFormat, Compression, Connection, RawMessage
 from bagmcp_shared.bags.source import MergedSource, MessageSource
 from bagmcp_shared.bags.sqlite3_source import Sqlite3Source
+from bagmcp_shared.bags.user_yaml import UserYamlError, read_user_yaml
 from bagmcp_shared.errors import DamagedBagError, UnsupportedFormatError
 
 _STORAGE_SUFFIXES = {".db3": BagFormat.ROS2_SQLITE3, ".mcap": BagFormat.ROS2_MCAP}
@@ -40,8 +41,13 @@ def _read_metadata(directory: Path) -> dict[str, object] | None:
     if not path.exists():
         return None
     try:
-        data = yaml.safe_load(path.read_text(encoding="utf-8"))
-        info = data["rosbag2_bagfile_information"]
+        data = read_user_yaml(path)
+        info = data["rosbag2_bagfile_information"]  # type: ignore[index]
+    except UserYamlError as err:
+        raise UnsupportedFormatError(
+            f"{path}: metadata.yaml {err}; it is refused to bound memory (rosbag2 writes no aliases and far "
+            "smaller files): write the values out"
+        ) from err
     except (yaml.YAMLError, KeyError, TypeError, UnicodeDecodeError) as err:
         raise DamagedBagError(f"{path}: metadata.yaml is not valid rosbag2 metadata ({_one_line(err)})") from err
     if not isinstance(info, dict):

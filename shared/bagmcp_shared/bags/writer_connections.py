@@ -26,6 +26,7 @@ from rosbags.typesys.store import Typestore
 
 from bagmcp_shared.bags.models import Connection, Encoding
 from bagmcp_shared.bags.reader import BagReader
+from bagmcp_shared.bags.user_yaml import refuse_aliases
 from bagmcp_shared.errors import BagmcpError, DecodeError
 
 _HEADER = "std_msgs/msg/Header"
@@ -87,8 +88,8 @@ def _qos(conn: Connection) -> tuple[Qos, ...]:
     """The offered QoS profiles stored with a ROS 2 connection."""
     text = _meta(conn, "offered_qos_profiles")
     try:
-        return tuple(parse_qos(text))
-    except (Ros2ReaderError, KeyError, TypeError, ValueError) as err:
+        return tuple(parse_qos(refuse_aliases(text)))
+    except (Ros2ReaderError, KeyError, TypeError, ValueError) as err:  # UserYamlError is a ValueError
         raise FilterError(f"{conn.topic}: its offered QoS profiles cannot be parsed ({err})") from err
 
 
