@@ -1,4 +1,5 @@
-"""ROS 1 bags (format 2.0, plain/bz2/lz4 chunks) through rosbags' rosbag1 reader and its index."""
+"""ROS 1 bags (format 2.0, plain/bz2/lz4 chunks) through rosbags' rosbag1 reader and its index, chunks
+decompressed within the memory budget (ros1_chunks)."""
 
 from __future__ import annotations
 
@@ -11,7 +12,8 @@ from rosbags.interfaces import ConnectionExtRosbag1
 from rosbags.rosbag1 import Reader, ReaderError
 
 from bagmcp_shared.bags.models import Compression, Connection, Encoding, RawMessage
-from bagmcp_shared.errors import DamagedBagError
+from bagmcp_shared.bags.ros1_chunks import bound_chunks
+from bagmcp_shared.errors import BagError, DamagedBagError
 
 
 def _metadata(conn: RbConnection) -> tuple[tuple[str, str], ...]:
@@ -36,29 +38,6 @@ def _convert(conn: RbConnection) -> Connection:
     )
 
 
-def _header_field(record: bytes, name: bytes) -> str:
-    """The value of field ``name`` in a record header (length-prefixed ``name=value`` fields)."""
-    pos = 0
-    while pos + 4 <= len(record):
-        (size,) = struct.unpack_from("<I", record, pos)
-        key, _, value = record[pos + 4 : pos + 4 + size].partition(b"=")
-        if key == name:
-            return value.decode("ascii", "replace")
-        pos += 4 + size
-    return ""
-
-
-def _chunk_compressions(path: Path, positions: Sequence[int]) -> list[str]:
-    """The ``compression`` field of the chunk records at ``positions``."""
-    found = []
-    with path.open("rb") as file:
-        for pos in positions:
-            file.seek(pos)
-            (size,) = struct.unpack("<I", file.read(4))
-            found.append(_header_field(file.read(size), b"compression"))
-    return found
-
-
 class Ros1Source:
     """A ROS 1 bag; the bag's index (read at open) gives counts and first/last times."""
 
@@ -72,9 +51,17 @@ class Ros1Source:
                 f"{path}: the ROS 1 bag's index is damaged ({detail}); `rosbag reindex` may repair it"
             ) from err
         self._path = path
+        try:
+            chunk_names = bound_chunks(path, self._reader.chunks)
+        except (OSError, struct.error) as err:
+            self._reader.close()
+            raise DamagedBagError(f"{path}: a chunk header could not be read ({err})") from err
+        except BagError:
+            self._reader.close()
+            raise
         self._by_id = {c.id: c for c in self._reader.connections}
         self._connections = [_convert(c) for c in self._reader.connections]
-        self._compression: Compression | None = None
+        self._compression = Compression.of_chunks(chunk_names)
 
     @property
     def connections(self) -> Sequence[Connection]:
@@ -86,14 +73,7 @@ class Ros1Source:
 
     @property
     def compression(self) -> Compression:
-        """What most chunks use (bz2, lz4 or none); read from the chunk headers on first use."""
-        if self._compression is None:
-            positions = [info.pos for info in self._reader.chunk_infos]
-            try:
-                names = _chunk_compressions(self._path, positions)
-            except (OSError, struct.error) as err:
-                raise DamagedBagError(f"{self._path}: a chunk header could not be read ({err})") from err
-            self._compression = Compression.of_chunks(names)
+        """What most chunks use (bz2, lz4 or none), from the chunk headers read at open."""
         return self._compression
 
     def bounds(self, connection_id: int) -> tuple[int, int] | None:

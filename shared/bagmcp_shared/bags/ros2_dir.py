@@ -17,11 +17,10 @@ from bagmcp_shared.bags.models import BagFormat, Compression, Connection, RawMes
 from bagmcp_shared.bags.source import MergedSource, MessageSource
 from bagmcp_shared.bags.sqlite3_source import Sqlite3Source
 from bagmcp_shared.bags.user_yaml import UserYamlError, read_user_yaml
+from bagmcp_shared.budget import check_record, input_budget
 from bagmcp_shared.errors import DamagedBagError, UnsupportedFormatError
 
 _STORAGE_SUFFIXES = {".db3": BagFormat.ROS2_SQLITE3, ".mcap": BagFormat.ROS2_MCAP}
-MAX_EXPANSION = 200  # a zstd-compressed storage file may grow this many times when decompressed
-EXPANSION_FLOOR_BYTES = 64 << 20
 
 
 def _natural_key(path: Path) -> tuple[str, int]:
@@ -141,7 +140,15 @@ class _DecompressedMessages:
         self, connection_ids: Collection[int], *, start_ns: int | None, stop_ns: int | None
     ) -> Iterator[RawMessage]:
         for msg in self._inner.messages(connection_ids, start_ns=start_ns, stop_ns=stop_ns):
-            yield msg._replace(data=self._zstd.decompress(msg.data))
+            yield msg._replace(data=self._decompressed(msg))
+
+    def _decompressed(self, msg: RawMessage) -> bytes:
+        """One message's zstd frame, refused when the size it declares is past the budget; zstd allocates
+        that size before it decompresses (and stops at the limit when the frame declares none)."""
+        where = f"a zstd-compressed message on {msg.connection.topic} at {msg.log_time_ns} ns"
+        declared = zstandard.frame_content_size(msg.data)
+        limit = check_record(where, declared_bytes=max(declared, 0), compressed_bytes=len(msg.data))
+        return self._zstd.decompress(msg.data, max_output_size=limit)
 
     def close(self) -> None:
         self._inner.close()
@@ -158,18 +165,20 @@ def open_storage_file(path: Path, *, recover_truncated: bool) -> tuple[MessageSo
 
 
 def _decompress_file(path: Path, into: Path) -> Path:
-    """A zstd-compressed storage file decompressed into ``into``; one that expands more than
-    MAX_EXPANSION times (past a floor) is refused while it is written, as a decompression bomb."""
+    """A zstd-compressed storage file decompressed into ``into`` as a stream (so to disk, not memory); one
+    that expands more than the budget's ``max_expansion`` times (past its floor) is refused while it is
+    written, as a decompression bomb."""
     target = into / path.name.removesuffix(".zstd")
-    limit = max(EXPANSION_FLOOR_BYTES, MAX_EXPANSION * path.stat().st_size)
+    budget = input_budget()
+    limit = max(budget.expansion_floor_bytes, int(budget.max_expansion * path.stat().st_size))
     written = 0
     with path.open("rb") as src, target.open("wb") as dst, zstandard.ZstdDecompressor().stream_reader(src) as raw:
         while chunk := raw.read(1 << 20):
             written += len(chunk)
             if written > limit:
                 raise UnsupportedFormatError(
-                    f"{path}: expands more than {MAX_EXPANSION} times when decompressed; refusing it as a "
-                    "decompression bomb"
+                    f"{path}: expands more than {budget.max_expansion:.0f} times when decompressed; refusing it "
+                    "as a decompression bomb (BAGMCP_MAX_EXPANSION)"
                 )
             dst.write(chunk)
     return target

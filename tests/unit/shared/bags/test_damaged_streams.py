@@ -9,8 +9,10 @@ from pathlib import Path
 import pytest
 import zstandard
 
-from bagmcp_shared.bags import open_bag, ros2_dir
+from bagmcp_shared import budget
+from bagmcp_shared.bags import open_bag
 from bagmcp_shared.errors import DamagedBagError, UnsupportedFormatError
+from bagmcp_shared.settings import InputBudget
 from tests.fixtures.compressed_bags import CompressedKind, write_compressed
 from tests.fixtures.damage import (
     corrupt_at,
@@ -81,7 +83,7 @@ def test_an_indexed_mcap_with_a_damaged_first_chunk_is_refused_on_opening(tmp_pa
 def test_a_compressed_storage_file_that_expands_like_a_bomb_is_refused_while_it_is_written(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    monkeypatch.setattr(ros2_dir, "EXPANSION_FLOOR_BYTES", 1 << 20)
+    monkeypatch.setattr(budget, "_current", InputBudget(expansion_floor_bytes=1 << 20))
     bag = write_compressed("sqlite3-zstd-file", tmp_path)
     storage = _storage(bag)
     with storage.open("wb") as out, zstandard.ZstdCompressor().stream_writer(out) as packed:

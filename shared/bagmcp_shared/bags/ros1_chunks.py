@@ -1,0 +1,71 @@
+"""ROS 1 chunk headers, and chunks decompressed within the memory budget.
+
+rosbags decompresses a whole chunk with ``bz2.decompress`` or ``lz4.frame.decompress`` to read a message
+from it, with no bound: bz2 turns a run of one byte into a few hundred bytes per gigabyte, so a chunk of a
+few kilobytes can hold gigabytes. Each chunk's ``size`` field is checked against the budget when the bag is
+opened, and its decompressor is replaced by one that stops at the budget, which also holds for a chunk whose
+``size`` field lies.
+"""
+
+from __future__ import annotations
+
+import bz2
+import struct
+from collections.abc import Callable
+from pathlib import Path
+from typing import BinaryIO
+
+import lz4.frame  # type: ignore[import-untyped]
+from rosbags.rosbag1.reader import Chunk
+
+from bagmcp_shared.budget import check_record, record_refused
+
+
+def header_field(record: bytes, name: bytes) -> bytes:
+    """The value of field ``name`` in a record header (length-prefixed ``name=value`` fields)."""
+    pos = 0
+    while pos + 4 <= len(record):
+        (size,) = struct.unpack_from("<I", record, pos)
+        key, _, value = record[pos + 4 : pos + 4 + size].partition(b"=")
+        if key == name:
+            return value
+        pos += 4 + size
+    return b""
+
+
+def chunk_header(file: BinaryIO, pos: int) -> tuple[str, int]:
+    """(compression, declared uncompressed bytes) of the chunk record at ``pos``; raises struct.error or
+    OSError when the header is not there."""
+    file.seek(pos)
+    (size,) = struct.unpack("<I", file.read(4))
+    header = file.read(size)
+    declared = header_field(header, b"size")
+    return header_field(header, b"compression").decode("ascii", "replace"), int.from_bytes(declared[:4], "little")
+
+
+def _bounded(compression: str, limit: int, where: str) -> Callable[[bytes], bytes]:
+    def decompress(data: bytes) -> bytes:
+        if compression == "bz2":
+            out = bz2.BZ2Decompressor().decompress(data, max_length=limit + 1)
+        else:
+            out = bytes(lz4.frame.LZ4FrameDecompressor().decompress(data, max_length=limit + 1))
+        if len(out) > limit:
+            raise record_refused(where, f"holds more than {limit:,} bytes uncompressed in {len(data):,}")
+        return out
+
+    return decompress
+
+
+def bound_chunks(path: Path, chunks: dict[int, Chunk]) -> list[str]:
+    """Check every compressed chunk's declared size and bound its decompression (``chunks`` is rosbags'
+    table, changed in place); returns each chunk's compression name."""
+    names = []
+    with path.open("rb") as file:
+        for pos, chunk in chunks.items():
+            compression, declared = chunk_header(file, pos)
+            names.append(compression)
+            if compression in ("bz2", "lz4"):
+                where = f"{path}: the {compression} chunk at byte {pos:,}"
+                limit = check_record(where, declared_bytes=declared, compressed_bytes=chunk.datasize)
+                chunks[pos] = chunk._replace(decompressor=_bounded(compression, limit, where))
+    return names
