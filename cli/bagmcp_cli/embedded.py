@@ -35,7 +35,11 @@ def compose(settings: EmbeddedSettings, *, public_url: str = "") -> Composition:
     """Catalog the folder (read-only), start ingest, and expose every service and the jobs tools in process.
     ``public_url`` is where callers reach this server (for artifact links)."""
     embedded = embedded_resources(
-        settings.folder, settings.data_dir, job_budget_s=settings.job_budget_s, open_bags=settings.open_bags
+        settings.folder,
+        settings.data_dir,
+        job_budget_s=settings.job_budget_s,
+        open_bags=settings.open_bags,
+        input_budget=settings.input_budget,
     )
     parts = [
         bag_store_part(embedded, queries=settings.queries),

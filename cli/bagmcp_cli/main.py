@@ -29,8 +29,11 @@ DATA_HELP = (
 def _info(args: argparse.Namespace) -> int:
     from bagmcp_shared.bags import open_bag
     from bagmcp_shared.bags.report import summary_text
+    from bagmcp_shared.budget import use_input_budget
     from bagmcp_shared.catalog import CatalogSummary
+    from bagmcp_shared.settings import Env, InputBudget
 
+    use_input_budget(InputBudget.from_env(Env()))  # the same checks as a server's (BAGMCP_MAX_RECORD_BYTES, ...)
     with open_bag(args.path, recover_truncated=args.recover) as bag:
         summary = bag.summary()
     print(CatalogSummary.of(summary).model_dump_json(indent=2) if args.json else summary_text(summary))

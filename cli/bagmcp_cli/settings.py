@@ -13,10 +13,12 @@ from bagmcp_gateway.ratelimit import Limit
 from bagmcp_gateway.settings import rate_limit_from_env
 from bagmcp_lab.settings import ANY_BASE_URL, LabSettings
 from bagmcp_shared.settings import (
+    DEFAULT_INPUT_BUDGET,
     DEFAULT_OPEN_BAGS,
     LOOPBACK_HOSTS,
     Env,
     HttpSettings,
+    InputBudget,
     OpenBagLimits,
     default_data_dir,
     host_patterns,
@@ -33,6 +35,7 @@ class EmbeddedSettings:
     allowed_hosts: tuple[str, ...] = ()
     rate_limit: Limit | None = None
     open_bags: OpenBagLimits = DEFAULT_OPEN_BAGS
+    input_budget: InputBudget = DEFAULT_INPUT_BUDGET
     lab: LabSettings = field(default_factory=LabSettings)
     queries: QueryLimits = DEFAULT_QUERY_LIMITS
 
@@ -48,6 +51,7 @@ class EmbeddedSettings:
             allowed_hosts=env.items("BAGMCP_ALLOWED_HOSTS"),
             rate_limit=rate_limit_from_env(env, default_per_s=0.0),
             open_bags=OpenBagLimits.from_env(env),
+            input_budget=InputBudget.from_env(env),
             lab=LabSettings.from_env(env, base_urls=(ANY_BASE_URL,)),  # the machine's owner may name any server
             queries=QueryLimits.from_env(env),
         )

@@ -46,10 +46,11 @@ def record_refused(where: str, detail: str) -> UnsupportedFormatError:
 
 
 def check_image(what: str, *, width: int, height: int, bytes_per_pixel: int) -> None:
-    """Refuses an image whose pixels would take more than the budget, before they are decoded."""
+    """Refuses an image whose pixels would take more than the budget, before they are decoded; a ValueError,
+    as the image decoders raise for every image they cannot show."""
     needed = width * height * bytes_per_pixel
     if needed > _current.max_image_bytes:
-        raise UnsupportedFormatError(
+        raise ValueError(
             f"{what} is {width:,} x {height:,} pixels ({needed:,} bytes decoded), more than the "
             f"{_current.max_image_bytes:,} bytes this server decodes (BAGMCP_MAX_IMAGE_BYTES); "
             "pick a smaller image or raise the limit"

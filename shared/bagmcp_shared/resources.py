@@ -16,12 +16,20 @@ from pathlib import Path
 import redis
 
 from bagmcp_shared.access import BagAccess, BagFiles, CachedBagFiles, FolderBagFiles, IndexPublisher, ReaderCache
+from bagmcp_shared.budget import use_input_budget
 from bagmcp_shared.catalog import Catalog, MemoryCatalog, RedisCatalog
 from bagmcp_shared.errors import StorageError
 from bagmcp_shared.jobs import JobStore, MemoryJobStore, RedisJobStore
 from bagmcp_shared.redis_errors import answers
 from bagmcp_shared.scratch import use_scratch
-from bagmcp_shared.settings import DEFAULT_OPEN_BAGS, OpenBagLimits, S3Settings, TeamSettings
+from bagmcp_shared.settings import (
+    DEFAULT_INPUT_BUDGET,
+    DEFAULT_OPEN_BAGS,
+    InputBudget,
+    OpenBagLimits,
+    S3Settings,
+    TeamSettings,
+)
 from bagmcp_shared.storage import LocalStore, ObjectStore, S3Store
 from bagmcp_shared.tasks import CeleryRunner, Runner, ThreadRunner, create_celery
 
@@ -55,10 +63,16 @@ class Embedded:
 
 
 def embedded_resources(
-    folder: Path, data_dir: Path, *, job_budget_s: float = 20.0, open_bags: OpenBagLimits = DEFAULT_OPEN_BAGS
+    folder: Path,
+    data_dir: Path,
+    *,
+    job_budget_s: float = 20.0,
+    open_bags: OpenBagLimits = DEFAULT_OPEN_BAGS,
+    input_budget: InputBudget = DEFAULT_INPUT_BUDGET,
 ) -> Embedded:
     """One process over a read-only folder: memory catalog and jobs, a thread runner, indexes and
-    the bags and artifacts the server makes under ``data_dir``."""
+    the bags and artifacts the server makes under ``data_dir``; ``input_budget`` becomes the process's."""
+    use_input_budget(input_budget)
     store = LocalStore(data_dir / "store")
     files = FolderBagFiles(folder, data_dir / "index", store)
     catalog = MemoryCatalog()
@@ -119,7 +133,9 @@ def wait_for_redis(client: redis.Redis, *, wait_s: float = 60.0) -> None:
 
 def team_resources(settings: TeamSettings, *, queue: str) -> Resources:
     """Team mode: S3 for bags, indexes and artifacts, Redis for the catalog and jobs, Celery for work; this
-    process's temporary files in its scratch directory under the data directory."""
+    process's temporary files in its scratch directory under the data directory; the settings' input
+    budget becomes the process's."""
+    use_input_budget(settings.input_budget)
     scratch = use_scratch(settings.scratch_dir)
     store = s3_store(settings.s3)
     client = redis_client(settings.redis_url)

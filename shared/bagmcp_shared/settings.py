@@ -161,6 +161,9 @@ class InputBudget:
         return min(self.max_record_bytes, by_ratio)
 
 
+DEFAULT_INPUT_BUDGET = InputBudget()
+
+
 @dataclass(frozen=True)
 class TeamSettings:
     """What every service process needs in team mode: Redis, S3, the service token, local data."""
@@ -174,6 +177,7 @@ class TeamSettings:
     job_budget_s: float = 20.0
     task_visibility_timeout_s: int = 60  # a task of a worker that died goes to another after this long
     open_bags: OpenBagLimits = DEFAULT_OPEN_BAGS
+    input_budget: InputBudget = DEFAULT_INPUT_BUDGET
 
     @classmethod
     def from_env(cls, env: Env) -> TeamSettings:
@@ -187,6 +191,7 @@ class TeamSettings:
             job_budget_s=env.number("BAGMCP_JOB_BUDGET_S", 20.0),
             task_visibility_timeout_s=env.integer("BAGMCP_TASK_VISIBILITY_TIMEOUT_S", 60),
             open_bags=OpenBagLimits.from_env(env),
+            input_budget=InputBudget.from_env(env),
         )
 
     @property

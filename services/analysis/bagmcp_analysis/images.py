@@ -4,6 +4,11 @@ raw_image decodes sensor_msgs/Image fields (colour, mono, 8- and 16-bit Bayer, Y
 compressed_image decodes sensor_msgs/CompressedImage (JPEG/PNG and compressedDepth), both into a Picture
 (RGB or grey pixels; depth colourised with turbo). encode_picture scales a Picture down and encodes it
 as JPEG or PNG.
+
+Memory: an image is decoded only when its pixels fit the process's image budget
+(``BAGMCP_MAX_IMAGE_BYTES``, checked on the header's width and height before a pixel is decoded), and
+depth, Bayer and YUV images are converted in blocks of rows, in their own pixel type; a 199 KB
+compressedDepth PNG of 9500 x 9500 made one call peak at 4.4 GB when the whole image went through float64.
 """
 
 from __future__ import annotations
@@ -12,14 +17,17 @@ import functools
 import io
 import struct
 from dataclasses import dataclass
-from typing import Literal
+from typing import Literal, TypeVar
 
 import matplotlib
 import numpy as np
 import numpy.typing as npt
 from PIL import Image
 
+from bagmcp_shared.budget import check_image
+
 PictureKind = Literal["color", "mono", "depth"]
+_Scalar = TypeVar("_Scalar", bound=np.generic)
 
 _COLOR_8BIT: dict[str, tuple[int, tuple[int, int, int]]] = {
     "rgb8": (3, (0, 1, 2)),
@@ -46,6 +54,8 @@ _PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
 _DEPTH_HEADER = struct.Struct("<iff")  # compressed_depth_image_transport ConfigHeader: format, quant A, quant B
 _BAYER_RB_KERNEL = np.array([[1.0, 2.0, 1.0], [2.0, 4.0, 2.0], [1.0, 2.0, 1.0]])
 _BAYER_G_KERNEL = np.array([[0.0, 1.0, 0.0], [1.0, 4.0, 1.0], [0.0, 1.0, 0.0]])
+_BLOCK_PIXELS = 1 << 20  # converted at a time: Bayer's float64 work is about 100 bytes a pixel, so ~100 MB
+_PIL_BYTES = {"I;16": 2, "I;16B": 2, "I;16L": 2, "I;16N": 2, "I": 4, "F": 4}
 
 
 @dataclass(frozen=True)
@@ -85,6 +95,9 @@ def raw_image(
 ) -> Picture:
     """Decode the fields of a sensor_msgs/Image; raises ValueError for unknown encodings or short data."""
     key = encoding.strip().lower()
+    if (native := _native_bytes(key)) is not None:
+        picture_bytes = 1 if key in _MONO_8BIT else 3
+        check_image(f"the {encoding} image", width=width, height=height, bytes_per_pixel=max(native, picture_bytes))
     buf = _byte_array(data)
     if key in _COLOR_8BIT:
         channels, order = _COLOR_8BIT[key]
@@ -98,19 +111,22 @@ def raw_image(
         dtype, size, unit = _DEPTH[key]
         rows = _rows(buf, encoding=encoding, width=width, height=height, step=step, row_bytes=width * size)
         values = np.ascontiguousarray(rows).view((">" if is_bigendian else "<") + dtype).reshape(height, width)
-        return _depth_picture(values.astype(np.float64), encoding=encoding, unit=unit)
+        return _depth_picture(values, encoding=encoding, unit=unit)
     if key in _BAYER:
         pattern, size = _BAYER[key]
         rows = _rows(buf, encoding=encoding, width=width, height=height, step=step, row_bytes=width * size)
         dtype = "u1" if size == 1 else (">" if is_bigendian else "<") + "u2"
-        mosaic = np.ascontiguousarray(rows).view(dtype).reshape(height, width).astype(np.float64)
+        mosaic = np.ascontiguousarray(rows).view(dtype).reshape(height, width)
         full_scale = float(np.iinfo(np.dtype(dtype)).max)
-        return _picture(_demosaic(mosaic, pattern=pattern, full_scale=full_scale), encoding=encoding, kind="color")
+        return _picture(
+            _demosaic_blocks(mosaic, pattern=pattern, full_scale=full_scale), encoding=encoding, kind="color"
+        )
     if key in _YUV422:
         if width % 2:
             raise ValueError(f"A {encoding} image must have an even width, but this one is {width} pixels wide.")
         rows = _rows(buf, encoding=encoding, width=width, height=height, step=step, row_bytes=width * 2)
-        return _picture(_yuv422_to_rgb(rows, offsets=_YUV422[key]), encoding=encoding, kind="color")
+        rgb = np.concatenate([_yuv422_to_rgb(block, offsets=_YUV422[key]) for block in _row_blocks(rows)])
+        return _picture(rgb, encoding=encoding, kind="color")
     names = [*_COLOR_8BIT, *sorted(_MONO_8BIT), *_DEPTH, *_BAYER, *_YUV422]
     known = ", ".join(name.upper() if name[0].isdigit() else name for name in names)
     raise ValueError(f"The image encoding {encoding!r} is not supported; supported encodings are: {known}.")
@@ -123,11 +139,23 @@ def compressed_image(*, format: str, data: bytes | npt.NDArray[np.uint8]) -> Pic
     error: Exception | None = None
     for payload, quant in _payload_candidates(raw):
         try:
-            with Image.open(io.BytesIO(payload)) as image:
-                image.load()
-                return _picture_from_pil(image, fmt=format, leading=leading, quant=quant)
+            image = Image.open(io.BytesIO(payload))  # reads the header only
         except (OSError, SyntaxError, ValueError, Image.DecompressionBombError) as exc:
             error = exc
+            continue
+        with image:
+            native = _PIL_BYTES.get(image.mode, len(image.getbands()))
+            check_image(
+                f"the {format or 'compressed'} image",
+                width=image.width,
+                height=image.height,
+                bytes_per_pixel=max(native, 3),
+            )
+            try:
+                image.load()
+                return _picture_from_pil(image, fmt=format, leading=leading, quant=quant)
+            except (OSError, SyntaxError, ValueError, Image.DecompressionBombError) as exc:
+                error = exc
     raise ValueError(
         f"the compressed image could not be decoded ({error}); the format is {format!r} and the data has "
         f"{len(raw)} bytes. Check that the topic really carries JPEG or PNG data."
@@ -194,18 +222,54 @@ def _turbo_table() -> npt.NDArray[np.uint8]:
     return np.asarray(rgba, dtype=np.uint8)[:, :3]
 
 
-def _depth_picture(values: npt.NDArray[np.float64], *, encoding: str, unit: str) -> Picture:
-    """Turbo-coloured depth: invalid values (0, NaN, inf) black, valid ones spread over [min, max]."""
-    valid = np.isfinite(values) & (values != 0)
+def _native_bytes(key: str) -> int | None:
+    """Bytes per pixel of a raw encoding as stored; None for an encoding this module does not decode."""
+    if key in _COLOR_8BIT:
+        return _COLOR_8BIT[key][0]
+    if key in _MONO_8BIT:
+        return 1
+    if key in _DEPTH:
+        return _DEPTH[key][1]
+    if key in _BAYER:
+        return _BAYER[key][1]
+    return 2 if key in _YUV422 else None
+
+
+def _row_blocks(values: npt.NDArray[_Scalar]) -> list[npt.NDArray[_Scalar]]:
+    """Views of consecutive rows of about ``_BLOCK_PIXELS`` each (no copies)."""
+    rows = max(1, _BLOCK_PIXELS // max(1, values.shape[1]))
+    return [values[start : start + rows] for start in range(0, values.shape[0], rows)]
+
+
+def _valid(block: npt.NDArray[np.generic]) -> npt.NDArray[np.bool_]:
+    return np.asarray(np.isfinite(block) & (block != 0))
+
+
+def _valid_range(values: npt.NDArray[np.generic]) -> tuple[float, float, int] | None:
+    """(min, max, count) of the valid values (not 0, NaN or inf), block by block; None when there are none."""
+    low, high, count = np.inf, -np.inf, 0
+    for block in _row_blocks(values):
+        good = block[_valid(block)]
+        if good.size:
+            low, high, count = min(low, float(good.min())), max(high, float(good.max())), count + good.size
+    return (low, high, count) if count else None
+
+
+def _depth_picture(values: npt.NDArray[np.generic], *, encoding: str, unit: str) -> Picture:
+    """Turbo-coloured depth: invalid values (0, NaN, inf) black, valid ones spread over [min, max]; the values
+    stay in their own type, and only a block of rows at a time is widened to float64."""
     pixels = np.zeros((*values.shape, 3), dtype=np.uint8)
-    if not valid.any():
+    found = _valid_range(values)
+    if found is None:
         depth = DepthRange(min_value=None, max_value=None, unit=unit, valid_fraction=0.0)
-    else:
-        good = values[valid]
-        low, high = float(good.min()), float(good.max())
+        return _picture(pixels, encoding=encoding, kind="depth", depth=depth)
+    low, high, count = found
+    for block, out in zip(_row_blocks(values), _row_blocks(pixels), strict=True):
+        valid = _valid(block)
+        good = block[valid].astype(np.float64)
         norm = (good - low) / (high - low) if high > low else np.full(good.shape, 0.5)
-        pixels[valid] = _turbo_table()[np.rint(norm * 255).astype(np.intp)]
-        depth = DepthRange(min_value=low, max_value=high, unit=unit, valid_fraction=float(valid.mean()))
+        out[valid] = _turbo_table()[np.rint(norm * 255).astype(np.intp)]
+    depth = DepthRange(min_value=low, max_value=high, unit=unit, valid_fraction=count / values.size)
     return _picture(pixels, encoding=encoding, kind="depth", depth=depth)
 
 
@@ -220,11 +284,28 @@ def _convolve3x3(image: npt.NDArray[np.float64], kernel: npt.NDArray[np.float64]
     return out
 
 
-def _demosaic(mosaic: npt.NDArray[np.float64], *, pattern: str, full_scale: float) -> npt.NDArray[np.uint8]:
+def _demosaic_blocks(mosaic: npt.NDArray[np.generic], *, pattern: str, full_scale: float) -> npt.NDArray[np.uint8]:
+    """:func:`_demosaic` a block of rows at a time, each with its neighbouring rows (so blocks join exactly)."""
+    height = mosaic.shape[0]
+    out = np.empty((*mosaic.shape, 3), dtype=np.uint8)
+    step = max(1, _BLOCK_PIXELS // max(1, mosaic.shape[1]))
+    for start in range(0, height, step):
+        stop = min(height, start + step)
+        lo, hi = max(0, start - 1), min(height, stop + 1)
+        slab = _demosaic(mosaic[lo:hi].astype(np.float64), pattern=pattern, full_scale=full_scale, first_row=lo)
+        out[start:stop] = slab[start - lo : stop - lo]
+    return out
+
+
+def _demosaic(
+    mosaic: npt.NDArray[np.float64], *, pattern: str, full_scale: float, first_row: int = 0
+) -> npt.NDArray[np.uint8]:
     """Bilinear demosaic as a normalised convolution (exact for uniform colours, also at the borders), with
-    ``full_scale`` (255 or 65535) shown as 255."""
+    ``full_scale`` (255 or 65535) shown as 255; ``first_row`` is where these rows start in the image (the
+    colour filter's phase)."""
     height, width = mosaic.shape
     rows, cols = np.indices((height, width))
+    rows += first_row
     site = np.array(list(pattern))[(rows % 2) * 2 + cols % 2]
     raw = mosaic * (255.0 / full_scale)
     channels: list[npt.NDArray[np.float64]] = []
@@ -259,17 +340,17 @@ def _payload_candidates(raw: bytes) -> list[tuple[bytes, tuple[float, float] | N
 
 def _picture_from_pil(image: Image.Image, *, fmt: str, leading: str, quant: tuple[float, float] | None) -> Picture:
     if image.mode.startswith("I") or image.mode == "F":
-        values = np.asarray(image).astype(np.float64)
+        values: npt.NDArray[np.generic] = np.asarray(image)
         unit = _DEPTH[leading][2] if leading in _DEPTH else "raw"
         if leading == "32fc1" and quant is not None and quant[0] != 0:
-            values = _dequantise(values, quant)
+            values = _dequantise(values.astype(np.float32), quant)
         return _depth_picture(values, encoding=fmt, unit=unit)
     if image.mode in ("L", "LA", "1"):
         return _picture(np.asarray(image.convert("L"), dtype=np.uint8), encoding=fmt, kind="mono")
     return _picture(np.asarray(image.convert("RGB"), dtype=np.uint8), encoding=fmt, kind="color")
 
 
-def _dequantise(inverse: npt.NDArray[np.float64], quant: tuple[float, float]) -> npt.NDArray[np.float64]:
+def _dequantise(inverse: npt.NDArray[np.float32], quant: tuple[float, float]) -> npt.NDArray[np.float32]:
     """compressedDepth 32FC1: depth = A / (value - B); value 0 means no measurement."""
     quant_a, quant_b = quant
     with np.errstate(divide="ignore", invalid="ignore"):
