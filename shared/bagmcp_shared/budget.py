@@ -30,7 +30,9 @@ def check_record(where: str, *, declared_bytes: int, compressed_bytes: int) -> i
     at byte 123"); refuses it when what it declares is already past that limit."""
     limit = _current.record_limit(compressed_bytes)
     if declared_bytes > limit:
-        raise record_refused(where, f"declares {declared_bytes:,} bytes uncompressed from {compressed_bytes:,}")
+        raise record_refused(
+            where, f"declares {declared_bytes:,} bytes uncompressed from {compressed_bytes:,} compressed"
+        )
     return limit
 
 
@@ -38,8 +40,8 @@ def record_refused(where: str, detail: str) -> UnsupportedFormatError:
     """The error for a record that declares (``detail``), or turns out to hold, more than the budget allows."""
     budget = _current
     return UnsupportedFormatError(
-        f"{where} {detail}: more than this server decompresses ({budget.max_expansion:.0f} times past "
-        f"{budget.expansion_floor_bytes >> 20} MiB, at most {budget.max_record_bytes >> 20} MiB; "
+        f"{where} {detail}: more than this server decompresses (a record may expand {budget.max_expansion:.0f} "
+        f"times once past {budget.expansion_floor_bytes >> 20} MiB, to at most {budget.max_record_bytes >> 20} MiB: "
         "BAGMCP_MAX_EXPANSION, BAGMCP_MAX_RECORD_BYTES), so it is refused as a decompression bomb; "
         "rewrite the recording with smaller chunks"
     )

@@ -43,14 +43,29 @@ def chunk_header(file: BinaryIO, pos: int) -> tuple[str, int]:
     return header_field(header, b"compression").decode("ascii", "replace"), int.from_bytes(declared[:4], "little")
 
 
+def _bz2_streams(data: bytes, max_length: int) -> bytes:
+    """Concatenated bz2 streams, as ``bz2.decompress`` reads them, stopping at ``max_length`` bytes; EOFError
+    for a stream cut short, as ``bz2.decompress`` raises."""
+    out, rest = bytearray(), data
+    while rest and len(out) < max_length:
+        decompressor = bz2.BZ2Decompressor()
+        out += decompressor.decompress(rest, max_length=max_length - len(out))
+        if not decompressor.eof:
+            if len(out) < max_length:
+                raise EOFError("Compressed data ended before the end-of-stream marker was reached")
+            break
+        rest = decompressor.unused_data
+    return bytes(out)
+
+
 def _bounded(compression: str, limit: int, where: str) -> Callable[[bytes], bytes]:
     def decompress(data: bytes) -> bytes:
         if compression == "bz2":
-            out = bz2.BZ2Decompressor().decompress(data, max_length=limit + 1)
+            out = _bz2_streams(data, limit + 1)
         else:
             out = bytes(lz4.frame.LZ4FrameDecompressor().decompress(data, max_length=limit + 1))
         if len(out) > limit:
-            raise record_refused(where, f"holds more than {limit:,} bytes uncompressed in {len(data):,}")
+            raise record_refused(where, f"holds more than {limit:,} bytes uncompressed in {len(data):,} compressed")
         return out
 
     return decompress
