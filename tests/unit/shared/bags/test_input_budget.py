@@ -1,0 +1,95 @@
+"""Compressed records and user YAML are checked against the memory budget before anything is expanded.
+
+These run at small sizes under a small budget (no process here may expand a real bomb; the full-size ones
+run in tests/integration/test_memory_capped.py, in a process whose address space is capped)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from bagmcp_shared import budget
+from bagmcp_shared.bags import open_bag
+from bagmcp_shared.bags.user_yaml import UserYamlError, load_user_yaml, refuse_aliases
+from bagmcp_shared.errors import UnsupportedFormatError
+from bagmcp_shared.settings import InputBudget
+from tests.fixtures.hostile_inputs import (
+    alias_bomb_lines,
+    write_mcap_chunk_bomb,
+    write_ros1_chunk_bomb,
+    write_yaml_alias_bomb,
+)
+from tests.fixtures.mcap_cuts import cut_copy
+
+EXPANDED = 4 << 20
+
+
+@pytest.fixture
+def small_budget(monkeypatch: pytest.MonkeyPatch) -> InputBudget:
+    """4 MiB records are past it: 1 MiB floor, at most 2 MiB."""
+    small = InputBudget(max_record_bytes=2 << 20, expansion_floor_bytes=1 << 20)
+    monkeypatch.setattr(budget, "_current", small)
+    return small
+
+
+def test_an_indexed_mcap_chunk_past_the_budget_is_refused_on_opening(tmp_path: Path, small_budget: None) -> None:
+    path = write_mcap_chunk_bomb(tmp_path / "bomb.mcap", expanded=EXPANDED)
+    with pytest.raises(UnsupportedFormatError, match=r"bomb\.mcap: the zstd chunk at byte 36 declares 4,194,"):
+        open_bag(path)
+
+
+def test_a_chunk_within_the_budget_is_read(tmp_path: Path) -> None:
+    path = write_mcap_chunk_bomb(tmp_path / "fine.mcap", expanded=EXPANDED)
+    with open_bag(path) as bag:
+        assert [len(m.data) for m in bag.messages()] == [EXPANDED]
+
+
+def test_an_mcap_read_from_start_to_end_refuses_the_chunk_too(tmp_path: Path, small_budget: None) -> None:
+    """Without its summary (cut after the data) the file is scanned; the chunk is refused before decompressing."""
+    whole = write_mcap_chunk_bomb(tmp_path / "whole.mcap", expanded=EXPANDED)
+    cut = cut_copy(whole, whole.stat().st_size - 40, tmp_path / "cut.mcap")
+    with pytest.raises(UnsupportedFormatError, match=r"cut\.mcap: the zstd chunk at byte 36 declares"):
+        open_bag(cut, recover_truncated=True)
+
+
+def test_a_ros1_chunk_past_the_budget_is_refused_on_opening(tmp_path: Path, small_budget: None) -> None:
+    path = write_ros1_chunk_bomb(tmp_path, expanded=EXPANDED)
+    with pytest.raises(UnsupportedFormatError, match=r"the bz2 chunk at byte 4,109 declares 4,19"):
+        open_bag(path)
+
+
+def test_a_ros1_chunk_that_lies_about_its_size_stops_at_the_budget(tmp_path: Path, small_budget: None) -> None:
+    path = write_ros1_chunk_bomb(tmp_path, expanded=EXPANDED, declared=1000)
+    with (
+        open_bag(path) as bag,
+        pytest.raises(UnsupportedFormatError, match="holds more than 1,048,576 bytes uncompressed"),
+    ):
+        list(bag.messages())
+
+
+def test_a_ros1_chunk_within_the_budget_is_read_whole(tmp_path: Path) -> None:
+    path = write_ros1_chunk_bomb(tmp_path, expanded=EXPANDED)
+    with open_bag(path) as bag:
+        (message,) = list(bag.messages())
+        assert bag.decode(message).data == "a" * EXPANDED  # type: ignore[attr-defined]
+
+
+def test_a_metadata_yaml_with_aliases_is_refused_naming_the_first(tmp_path: Path) -> None:
+    bag = write_yaml_alias_bomb(tmp_path, levels=2)
+    with pytest.raises(UnsupportedFormatError, match=r"metadata.yaml uses the YAML alias \*l0 at line 2"):
+        open_bag(bag)
+
+
+def test_user_yaml_loads_without_aliases_and_bounds_its_size() -> None:
+    assert load_user_yaml("a: [1, 2]\nb: {c: d}\n") == {"a": [1, 2], "b": {"c": "d"}}
+    with pytest.raises(UserYamlError, match=r"alias \*l0 at line 2"):
+        load_user_yaml("\n".join(alias_bomb_lines(2)))
+    with pytest.raises(UserYamlError, match="more than the 4,194,304 accepted"):
+        load_user_yaml("#" * (5 << 20))
+
+
+def test_qos_profiles_are_checked_for_aliases_before_rosbags_parses_them() -> None:
+    assert refuse_aliases("- history: 1\n  depth: 10\n") == "- history: 1\n  depth: 10\n"
+    with pytest.raises(UserYamlError, match=r"alias \*q"):
+        refuse_aliases("- &q {history: 1}\n- *q\n")
