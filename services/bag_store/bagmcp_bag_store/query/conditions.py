@@ -11,6 +11,7 @@ a parser of its whole syntax (comments, verbose mode, nested sets) kept in step 
 
 from __future__ import annotations
 
+import re
 import time
 from dataclasses import dataclass
 from typing import Literal, get_args
@@ -39,6 +40,9 @@ NUMERIC_CONDITIONS = ("greater_than", "less_than", "between", "max", "min")
 EXTREME_CONDITIONS = ("max", "min")  # the messages holding the window's largest or smallest value; no value
 MAX_PATTERN = 256
 REGEX_MEMORY_BYTES = 8 << 20  # RE2's own default: a compiled pattern and its match cache
+MAX_REPEAT = 1000  # RE2's own limit on a counted repeat
+_COUNTED_REPEAT = re.compile(r"\{(\d+)(?:,(\d*))?\}")
+_RE2_LIMITS = f"RE2 allows repeat counts up to {MAX_REPEAT}, nested ones multiplied; use + or * instead"
 REGEX_BUDGET_S = 5.0
 
 
@@ -115,6 +119,7 @@ class BoundedRegex:
     def __init__(self, pattern: str) -> None:
         if len(pattern) > MAX_PATTERN:
             raise ArgumentError(f"regex patterns are limited to {MAX_PATTERN} characters")
+        _refuse_large_counts(pattern)
         try:
             self._compiled = re2.compile(pattern, _re2_options())
         except re2.error as err:
@@ -130,11 +135,19 @@ class BoundedRegex:
         return found
 
 
+def _refuse_large_counts(pattern: str) -> None:
+    """RE2 reads a repeat count it cannot take (``a{1000000000}``) as literal text, which would quietly match
+    nothing; say so instead."""
+    for found in _COUNTED_REPEAT.finditer(pattern):
+        if any(int(number) > MAX_REPEAT for number in found.groups() if number):
+            raise ArgumentError(f"invalid regex {pattern!r}: the repeat {found.group(0)} is too large ({_RE2_LIMITS})")
+
+
 def _reason(err: Exception) -> str:
     """RE2's reason in words, with what to do about the two a hostile or ambitious pattern meets."""
     reason = err.args[0].decode("utf-8", "replace") if err.args and isinstance(err.args[0], bytes) else str(err)
     if "repetition size" in reason or "too large" in reason:
-        return f"{reason} (RE2 allows repeat counts up to 1000, nested ones multiplied; use + or * instead)"
+        return f"{reason} ({_RE2_LIMITS})"
     if "perl operator" in reason or "escape sequence" in reason:
         return f"{reason} (RE2 syntax: no lookaround or backreferences)"
     return reason
