@@ -1,7 +1,10 @@
 """Figure creation, shared styling and deterministic PNG output for every renderer.
 
-Only matplotlib's object API is used (Figure + FigureCanvasAgg, no pyplot, no rcParams changes), so
-renders can run concurrently in worker threads.
+Only matplotlib's object API is used (Figure + FigureCanvasAgg, no pyplot, no rcParams changes while
+drawing), so renders can run concurrently in worker threads. One rcParam is set once, on import: every text
+is drawn literally (``text.parse_math`` off). Titles, labels and legends carry the caller's words and the
+bag's topic and field names; with mathtext on, a ``$`` in them was parsed as TeX, and a title of
+``$\\frac{$`` answered "internal error".
 """
 
 from __future__ import annotations
@@ -9,6 +12,7 @@ from __future__ import annotations
 import io
 import textwrap
 
+import matplotlib
 from matplotlib.axes import Axes
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
@@ -25,6 +29,7 @@ LABEL_SIZE = 13
 TICK_SIZE = 11
 LEGEND_SIZE = 11
 PNG_BUDGET_BYTES = 190_000
+matplotlib.rcParams["text.parse_math"] = False  # see the module's docstring
 # matplotlib's tab10 palette, in order.
 PALETTE = (
     "#1f77b4",

@@ -42,3 +42,12 @@ def test_renders_in_parallel_threads_match_serial_renders() -> None:
 
 def test_summary_of_is_exported_for_structured_answers() -> None:
     assert summary_of(Line("v", "m/s", np.arange(3.0), np.array([1.0, 5.0, -2.0]))) == (3, -2.0, 5.0)
+
+
+def test_dollar_signs_in_titles_labels_and_names_are_drawn_literally() -> None:
+    """With mathtext on, ``$\\frac{$`` raised a ParseException (an internal error for the caller)."""
+    broken = "$\\frac{$"
+    odd = Line(f"{broken} topic", "$", T_S[:100], np.sin(T_S[:100]))
+    png = render_timeseries([odd], style="line", title=broken)
+    assert png.startswith(b"\x89PNG")
+    assert render_histogram(np.sin(T_S), bins=None, label=broken, unit="$x^", title=broken).startswith(b"\x89PNG")
