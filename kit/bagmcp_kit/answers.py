@@ -12,7 +12,7 @@ from mcp.server.mcpserver.exceptions import ToolError
 from mcp.types import CallToolResult, ContentBlock, TextContent
 from pydantic import BaseModel
 
-from bagmcp_shared.errors import BagmcpError
+from bagmcp_shared.errors import BagmcpError, sentence
 
 M = TypeVar("M", bound=BaseModel)
 
@@ -23,7 +23,7 @@ def tool_errors() -> Iterator[None]:
     try:
         yield
     except BagmcpError as err:
-        raise ToolError(str(err)) from err
+        raise ToolError(sentence(err)) from err
 
 
 def answer(

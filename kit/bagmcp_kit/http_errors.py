@@ -21,6 +21,7 @@ from bagmcp_shared.errors import (
     StorageError,
     TimeError,
     TopicNotFoundError,
+    sentence,
 )
 
 StatusTable = Sequence[tuple[type[BagmcpError], int, str]]
@@ -60,7 +61,7 @@ def install_error_handlers(app: FastAPI, statuses: StatusTable = ()) -> None:
     async def project_error(_request: Request, err: Exception) -> Response:
         assert isinstance(err, BagmcpError)
         status, code = next(((s, c) for t, s, c in table if isinstance(err, t)), (400, "error"))
-        return error_response(status, code, str(err))
+        return error_response(status, code, sentence(err))
 
     async def http_error(_request: Request, err: Exception) -> Response:
         assert isinstance(err, HttpError)

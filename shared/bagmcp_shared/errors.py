@@ -11,6 +11,21 @@ class BagmcpError(Exception):
     """
 
 
+MAX_SENTENCE_CHARS = 1_500  # what a caller sees of one error; the head says what, the tail what to do
+_TAIL_CHARS = 400
+
+
+def sentence(err: BagmcpError) -> str:
+    """``str(err)`` as callers see it (HTTP, MCP, a failed job): cut in the middle past MAX_SENTENCE_CHARS.
+    Errors quote the caller's arguments (a bag name, a value, a path), and a 10 KB argument was echoed back
+    whole; the cut keeps the start (what went wrong) and the end (what to do)."""
+    text = str(err)
+    if len(text) <= MAX_SENTENCE_CHARS:
+        return text
+    head = MAX_SENTENCE_CHARS - _TAIL_CHARS
+    return f"{text[:head]} … ({len(text) - head - _TAIL_CHARS:,} characters left out) … {text[-_TAIL_CHARS:]}"
+
+
 class BagError(BagmcpError):
     """A bag could not be opened or read."""
 

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import logging
 
-from bagmcp_shared.errors import BagmcpError, JobCancelledError
+from bagmcp_shared.errors import BagmcpError, JobCancelledError, sentence
 from bagmcp_shared.jobs.kinds import JobRegistry
 from bagmcp_shared.jobs.models import JobState
 from bagmcp_shared.jobs.progress import ProgressReporter
@@ -29,7 +29,7 @@ def run_job(registry: JobRegistry, store: JobStore, job_id: str) -> JobState | N
     except JobCancelledError:
         return update(store, job_id, state="cancelled", message="cancelled").state
     except BagmcpError as err:
-        return update(store, job_id, state="failed", error=str(err), message="failed").state
+        return update(store, job_id, state="failed", error=sentence(err), message="failed").state
     except Exception as err:
         log.exception("job %s crashed", job_id)
         return update(
