@@ -4,10 +4,13 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import pytest
+
 from bagmcp_cli.settings import EmbeddedSettings
 from bagmcp_gateway.ratelimit import Limit
+from bagmcp_shared import budget
 from bagmcp_shared.resources import embedded_resources
-from bagmcp_shared.settings import Env, OpenBagLimits
+from bagmcp_shared.settings import Env, InputBudget, OpenBagLimits
 
 
 def test_each_served_folder_gets_its_own_data_directory(tmp_path: Path) -> None:
@@ -59,4 +62,17 @@ def test_the_opened_bag_limits_come_from_the_environment_and_reach_the_bag_acces
     embedded = embedded_resources(tmp_path, tmp_path / "data", open_bags=settings.open_bags)
     cache = embedded.resources.access.cache  # the configured one, not a default put in its place
     assert (cache.max_bags, cache.max_bytes) == (3, 1_000_000)
+    embedded.runner.shutdown()
+
+
+def test_the_input_budget_comes_from_the_environment_and_becomes_the_processs(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.setattr(budget, "_current", InputBudget())  # restored after the test
+    env = Env({"BAGMCP_MAX_EXPANSION": "50", "BAGMCP_MAX_RECORD_BYTES": "1000000", "BAGMCP_MAX_IMAGE_BYTES": "2000"})
+    settings = EmbeddedSettings.from_env(tmp_path, tmp_path / "data", env)
+    assert settings.input_budget == InputBudget(max_expansion=50.0, max_record_bytes=1_000_000, max_image_bytes=2000)
+    assert EmbeddedSettings.from_env(tmp_path, None, Env({})).input_budget == InputBudget()
+    embedded = embedded_resources(tmp_path, tmp_path / "data", input_budget=settings.input_budget)
+    assert budget.input_budget() == settings.input_budget
     embedded.runner.shutdown()
