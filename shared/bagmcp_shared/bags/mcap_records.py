@@ -22,6 +22,10 @@ from mcap.records import Channel, Message, Schema
 MAGIC_BYTES = 8
 HEAD_BYTES = 9  # opcode (1) and content length (8) before every record
 _READ_STEP_BYTES = 1 << 20
+# Records a pass from start to end does not need, of any size: only their first bytes (which name them) are
+# read, so an attachment of gigabytes is skipped instead of loaded.
+_NOT_LOADED = frozenset({Opcode.ATTACHMENT, Opcode.METADATA})
+_PREFIX_BYTES = 4096
 _KINDS: dict[int, str] = {
     Opcode.HEADER: "header",
     Opcode.FOOTER: "footer",
@@ -53,16 +57,19 @@ def kind_of(opcode: int | None) -> str:
 
 @dataclass(frozen=True)
 class Piece:
-    """One top-level record as the file holds it; ``body`` is shorter than claimed when it is cut."""
+    """One top-level record as the file holds it; ``body`` is shorter than claimed when it is cut, and holds
+    only the first bytes of an attachment or metadata record (``present_bytes`` says how many are there)."""
 
     offset: int
     opcode: int | None  # None when the file ends before the opcode byte
     claimed_bytes: int | None  # the content length its head states; None when the head is cut
     body: bytes
+    present_bytes: int | None = None  # None: all of ``body``
 
     @property
     def complete(self) -> bool:
-        return self.claimed_bytes is not None and len(self.body) == self.claimed_bytes
+        present = len(self.body) if self.present_bytes is None else self.present_bytes
+        return self.claimed_bytes is not None and present == self.claimed_bytes
 
     @property
     def kind(self) -> str:
@@ -82,7 +89,12 @@ def pieces(file: BinaryIO, size_bytes: int) -> Iterator[Piece]:
             yield Piece(offset, head[0] if head else None, None, b"")
             return
         opcode, length = struct.unpack("<BQ", head)
-        piece = Piece(offset, opcode, length, file.read(min(length, size_bytes - offset - HEAD_BYTES)))
+        present = min(length, size_bytes - offset - HEAD_BYTES)
+        if opcode in _NOT_LOADED:
+            piece = Piece(offset, opcode, length, file.read(min(present, _PREFIX_BYTES)), present)
+            file.seek(offset + HEAD_BYTES + present)
+        else:
+            piece = Piece(offset, opcode, length, file.read(present))
         yield piece
         if not piece.complete or opcode == Opcode.FOOTER:
             return

@@ -5,9 +5,11 @@ run in tests/integration/test_memory_capped.py, in a process whose address space
 
 from __future__ import annotations
 
+import tracemalloc
 from pathlib import Path
 
 import pytest
+from mcap.writer import Writer
 
 from bagmcp_shared import budget
 from bagmcp_shared.bags import open_bag
@@ -93,3 +95,26 @@ def test_qos_profiles_are_checked_for_aliases_before_rosbags_parses_them() -> No
     assert refuse_aliases("- history: 1\n  depth: 10\n") == "- history: 1\n  depth: 10\n"
     with pytest.raises(UserYamlError, match=r"alias \*q"):
         refuse_aliases("- &q {history: 1}\n- *q\n")
+
+
+def test_an_mcap_read_from_start_to_end_skips_attachments_instead_of_loading_them(tmp_path: Path) -> None:
+    """The pass over a file without a summary read each top-level record whole: a 16 MiB attachment cost
+    16 MiB (and one of gigabytes, gigabytes); now only its first bytes, which name it, are read."""
+    path = tmp_path / "attached.mcap"
+    with path.open("wb") as file:
+        writer = Writer(file)
+        writer.start(profile="ros2", library="bagmcp tests")
+        schema = writer.register_schema(name="std_msgs/msg/String", encoding="ros2msg", data=b"string data")
+        channel = writer.register_channel("/chatter", "cdr", schema)
+        writer.add_attachment(log_time=1, create_time=1, name="big.bin", media_type="x", data=bytes(16 << 20))
+        writer.add_message(channel, log_time=2, data=b"\x00\x01\x00\x00\x01\x00\x00\x00\x00", publish_time=2)
+        writer.finish()  # type: ignore[no-untyped-call]
+    cut = cut_copy(path, path.stat().st_size - 30, tmp_path / "cut.mcap")  # no footer: read from start to end
+    tracemalloc.start()
+    try:
+        with open_bag(cut, recover_truncated=True) as bag:
+            assert [m.log_time_ns for m in bag.messages()] == [2]
+        _, peak = tracemalloc.get_traced_memory()
+    finally:
+        tracemalloc.stop()
+    assert peak < 4 << 20, peak
