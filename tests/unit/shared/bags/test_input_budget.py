@@ -5,10 +5,12 @@ run in tests/integration/test_memory_capped.py, in a process whose address space
 
 from __future__ import annotations
 
+import sqlite3
 import tracemalloc
 from pathlib import Path
 
 import pytest
+import zstandard
 from mcap.writer import Writer
 
 from bagmcp_shared import budget
@@ -16,6 +18,7 @@ from bagmcp_shared.bags import open_bag
 from bagmcp_shared.bags.user_yaml import UserYamlError, load_user_yaml, refuse_aliases
 from bagmcp_shared.errors import UnsupportedFormatError
 from bagmcp_shared.settings import InputBudget
+from tests.fixtures.compressed_bags import write_compressed
 from tests.fixtures.hostile_inputs import (
     alias_bomb_lines,
     write_mcap_chunk_bomb,
@@ -118,3 +121,15 @@ def test_an_mcap_read_from_start_to_end_skips_attachments_instead_of_loading_the
     finally:
         tracemalloc.stop()
     assert peak < 4 << 20, peak
+
+
+def test_a_message_compressed_per_message_past_the_budget_is_refused(tmp_path: Path, small_budget: None) -> None:
+    """zstd allocates the size a frame declares before it decompresses; 4 MiB of zeros fit in a few hundred
+    bytes."""
+    bag = write_compressed("sqlite3-zstd-message", tmp_path)
+    db3 = next(p for p in bag.iterdir() if p.suffix == ".db3")
+    with sqlite3.connect(db3) as db:
+        first = db.execute("SELECT id FROM messages ORDER BY timestamp LIMIT 1").fetchone()[0]
+        db.execute("UPDATE messages SET data = ? WHERE id = ?", (zstandard.compress(bytes(EXPANDED)), first))
+    with open_bag(bag) as opened, pytest.raises(UnsupportedFormatError, match="a zstd-compressed message on /"):
+        list(opened.messages())
