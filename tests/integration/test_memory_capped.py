@@ -5,7 +5,8 @@ Before the memory budget each case cost more than the cap (so the server answere
 died): the regex a{1000000000} grew a server to 21.9 GB; nested aliases in metadata.yaml cost 634 MB at 7
 levels and ten times more per level (9 here); a 9,500 x 9,500 compressedDepth PNG peaked at 4.4 GB;
 chunks that expand to 1 GiB (MCAP zstd, ROS 1 bz2) cost more than twice that in each process that read
-them. The files are a few kilobytes each (tests/fixtures/hostile_inputs.py). pyarrow's allocator reserves
+them; a zstd-compressed storage file that expands 256 MiB from 8 KB (an earlier bomb, decompressed to disk)
+is refused too. The files are a few kilobytes each (tests/fixtures/hostile_inputs.py). pyarrow's allocator reserves
 1 GiB of address space up front, so the server runs with ARROW_DEFAULT_MEMORY_POOL=system here.
 """
 
@@ -27,6 +28,7 @@ from tests.fixtures.hostile_inputs import (
     write_mcap_chunk_bomb,
     write_ros1_chunk_bomb,
     write_yaml_alias_bomb,
+    write_zstd_storage_bomb,
 )
 from tests.fixtures.mcp_client import call_error, http_client
 from tests.fixtures.processes import BIN, capped_address_space, http_ok, peak_memory_kib, service
@@ -54,6 +56,7 @@ def hostile_folder(tmp_path_factory: pytest.TempPathFactory) -> Path:
     write_ros1_chunk_bomb(folder, expanded=BOMB_BYTES)
     write_yaml_alias_bomb(folder, levels=9)
     write_big_depth_png(folder, side=9500)
+    write_zstd_storage_bomb(folder, expanded=256 << 20)
     write_chatter_bag(folder, count=20)
     return folder
 
@@ -103,6 +106,9 @@ async def test_stored_bombs_fail_their_ingest_with_a_sentence_naming_the_record(
     status, error = next(v for name, v in listed.items() if name.startswith("yaml_alias_bomb"))
     assert status == "failed"
     assert "metadata.yaml uses the YAML alias *l0 at line 2" in str(error)
+    status, error = listed["scenario-sqlite3-zstd-file"]
+    assert status == "failed"
+    assert "expands more than 200 times when decompressed" in str(error)
     assert capped.process.poll() is None
 
 
