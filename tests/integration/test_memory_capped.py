@@ -1,13 +1,14 @@
 """Hostile input against a `bagmcp serve` whose address space is capped at 2 GiB (RLIMIT_AS), far below this
-machine's memory: every case answers a clear error, the server lives on, and its peak stays under the cap.
+machine's memory: every case answers a clear error, the server lives on, and its peak stays low.
 
 Before the memory budget each case cost more than the cap (so the server answered an internal error or
-died): the regex a{1000000000} grew a server to 21.9 GB; nested aliases in metadata.yaml cost 634 MB at 7
-levels and ten times more per level (9 here); a 9,500 x 9,500 compressedDepth PNG peaked at 4.4 GB;
-chunks that expand to 1 GiB (MCAP zstd, ROS 1 bz2) cost more than twice that in each process that read
-them; a zstd-compressed storage file that expands 256 MiB from 8 KB (an earlier bomb, decompressed to disk)
-is refused too. The files are a few kilobytes each (tests/fixtures/hostile_inputs.py). pyarrow's allocator reserves
-1 GiB of address space up front, so the server runs with ARROW_DEFAULT_MEMORY_POOL=system here.
+died; on main it died at its start): the regex a{1000000000} grew a server to 21.9 GB; nested aliases in
+metadata.yaml cost 634 MB at 7 levels and ten times more per level (9 here); a 9,500 x 9,500
+compressedDepth PNG peaked at 4.4 GB; chunks that expand to 1 GiB (MCAP zstd, ROS 1 bz2, and an MCAP lz4
+chunk that declares 1,000 bytes) cost more than twice that in each process that read them. A
+zstd-compressed storage file that expands 256 MiB from 8 KB (an earlier bomb, decompressed to disk) is
+refused too. The files are kilobytes each, the lz4 one 4 MB (tests/fixtures/hostile_inputs.py). pyarrow's
+allocator reserves 1 GiB of address space up front, so the server runs with ARROW_DEFAULT_MEMORY_POOL=system.
 """
 
 from __future__ import annotations
@@ -53,6 +54,7 @@ def hostile_folder(tmp_path_factory: pytest.TempPathFactory) -> Path:
     folder = tmp_path_factory.mktemp("hostile") / "bags"
     folder.mkdir()
     write_mcap_chunk_bomb(folder / "mcap_chunk_bomb.mcap", expanded=BOMB_BYTES)
+    write_mcap_chunk_bomb(folder / "mcap_lz4_lie.mcap", expanded=BOMB_BYTES, compression="lz4", declared=1000)
     write_ros1_chunk_bomb(folder, expanded=BOMB_BYTES)
     write_yaml_alias_bomb(folder, levels=9)
     write_big_depth_png(folder, side=9500)
@@ -100,6 +102,9 @@ async def test_stored_bombs_fail_their_ingest_with_a_sentence_naming_the_record(
     assert status == "failed"
     assert "the zstd chunk at byte 36 declares 1,073,741,9" in str(error)
     assert "refused as a decompression bomb" in str(error)
+    status, error = listed["mcap_lz4_lie"]
+    assert status == "failed"
+    assert "an lz4 chunk holds more than 268,435,456 bytes uncompressed" in str(error)
     status, error = listed["ros1_chunk_bomb"]
     assert status == "failed"
     assert "the bz2 chunk at byte 4,109 declares 1,073,742," in str(error)

@@ -5,8 +5,8 @@ the chunk record declares (``zstandard.decompress(data, uncompressed_size)``), s
 zstd chunk declares 512 MiB cost 1.3 GB per process that read it. Both the chunk index (what the summary
 says) and the chunk record itself (what the library reads) are checked; reading the ~60 bytes of each
 chunk's head costs one seek per chunk: 10 ms for 4,020 chunks here (file in the page cache).
-An lz4 chunk that declares less than its frame holds is not caught here: the library's lz4 call has no
-bound, so such a chunk may still expand up to lz4's own limit (about 255 times its compressed bytes).
+An lz4 chunk that declares less than its frame holds is not caught here: the library's lz4 call trusts the
+frame alone, and mcap_lz4_bound stops it at the budget while it is read.
 Uncompressed chunks are not checked: what they hold is on disk, bounded by the file's size.
 """
 

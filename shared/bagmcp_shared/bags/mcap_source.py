@@ -26,6 +26,7 @@ from rosbags.typesys.msg import normalize_msgtype
 from bagmcp_shared.bags.json_types import infer_schema
 from bagmcp_shared.bags.mcap_chunk_budget import check_chunks
 from bagmcp_shared.bags.mcap_cut_text import cut_error, cut_note
+from bagmcp_shared.bags.mcap_lz4_bound import bound_library_lz4
 from bagmcp_shared.bags.mcap_records import RecordError
 from bagmcp_shared.bags.mcap_scan import scan, stream
 from bagmcp_shared.bags.models import Compression, Connection, Encoding, RawMessage
@@ -42,6 +43,7 @@ _ENCODINGS = {
 _SCHEMA_FORMATS = {"ros1msg": "msg", "ros2msg": "msg", "ros2idl": "idl", "jsonschema": "jsonschema"}
 _SCHEMA_FORMATS |= {"protobuf": "protobuf", "data_tamer": "data_tamer"}
 _T = TypeVar("_T")
+bound_library_lz4()  # before any MCAP is read: the library's lz4 chunks within the memory budget
 _READ_ERRORS = (McapError, struct.error, ValueError, EOFError, RuntimeError)
 
 
@@ -222,6 +224,8 @@ class McapSource:
                     yield RawMessage(conn, msg.log_time, msg.data)
         except _READ_ERRORS as err:
             raise DamagedBagError(f"{self._path}: a chunk could not be read ({err})") from err
+        except UnsupportedFormatError as err:  # a chunk past the memory budget (mcap_lz4_bound)
+            raise UnsupportedFormatError(f"{self._path}: {err}") from err
 
     def _streamed(self, ids: Collection[int], start_ns: int | None, stop_ns: int | None) -> Iterator[RawMessage]:
         by_id = {c.id: c for c in self._connections if c.id in set(ids)}

@@ -133,3 +133,16 @@ def test_a_message_compressed_per_message_past_the_budget_is_refused(tmp_path: P
         db.execute("UPDATE messages SET data = ? WHERE id = ?", (zstandard.compress(bytes(EXPANDED)), first))
     with open_bag(bag) as opened, pytest.raises(UnsupportedFormatError, match="a zstd-compressed message on /"):
         list(opened.messages())
+
+
+def test_an_lz4_chunk_that_lies_about_its_size_stops_at_the_budget(tmp_path: Path, small_budget: None) -> None:
+    """The mcap library's lz4 call trusts the frame alone; the chunk declares 1,000 bytes and holds 4 MiB."""
+    path = write_mcap_chunk_bomb(tmp_path / "lies.mcap", expanded=EXPANDED, compression="lz4", declared=1000)
+    with open_bag(path) as bag, pytest.raises(UnsupportedFormatError, match=r"lies\.mcap: an lz4 chunk holds more"):
+        list(bag.messages())
+
+
+def test_an_lz4_chunk_within_the_budget_is_read(tmp_path: Path) -> None:
+    path = write_mcap_chunk_bomb(tmp_path / "fine.mcap", expanded=EXPANDED, compression="lz4")
+    with open_bag(path) as bag:
+        assert [len(m.data) for m in bag.messages()] == [EXPANDED]
