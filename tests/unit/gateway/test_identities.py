@@ -1,21 +1,25 @@
 """Who a caller is, as jobs and rate limits know it: owners namespaced by kind (an API token, a static token,
 a JWT's issuer and subject) so two kinds that share a name never share jobs; empty JWT subjects refused; JWT
-scopes read from ``scope`` or ``scp``; token names another identity shows, and absurd expiries, refused at
-creation."""
+scopes read from ``scope`` or ``scp``; a profile the server does not know grants no tool; token names another
+identity shows, and absurd expiries, refused at creation."""
 
 from __future__ import annotations
 
 from collections.abc import Iterator
 from pathlib import Path
 
+import mcp.types as types
 import pytest
 from cryptography.hazmat.primitives.asymmetric import rsa
 
 from bagmcp_gateway.gateway import owner_of
+from bagmcp_gateway.policy import ToolPolicy
+from bagmcp_gateway.profiles import DEFAULT_PROFILES
 from bagmcp_gateway.tokens.admin import TokenRequest, create_token
 from bagmcp_gateway.tokens.models import TokenRecord, token_hash
 from bagmcp_gateway.tokens.store import FileTokenStore
 from bagmcp_gateway.tokens.verifier import GatewayVerifier, JwtSettings
+from bagmcp_kit.arguments import READ_ONLY
 from bagmcp_shared.errors import ArgumentError, JobNotFoundError
 from bagmcp_shared.jobs import MemoryJobStore
 from bagmcp_shared.jobs.models import Job
@@ -105,3 +109,23 @@ def test_an_unknown_profile_is_refused_at_creation(tmp_path: Path) -> None:
     store = FileTokenStore(tmp_path / "tokens.json")
     with pytest.raises(ArgumentError, match="no tool profile 'typo'; profiles: core, full"):
         create_token(store, TokenRequest(name="typo", profile="typo"), profiles=PROFILES)
+
+
+async def test_a_jwt_naming_an_unknown_profile_may_call_no_tool(
+    tmp_path: Path, provider: tuple[str, rsa.RSAPrivateKey]
+) -> None:
+    jwks_url, key = provider
+    verifier, _ = _verifier(tmp_path, jwks_url)
+    typo = await verifier.verify_token(signed_jwt(key, bagmcp_profile="typo"))
+    core = await verifier.verify_token(signed_jwt(key, bagmcp_profile="core"))
+    assert typo is not None
+    assert core is not None
+    tools = [
+        types.Tool(name=n, input_schema={"type": "object"}, annotations=READ_ONLY) for n in ("list_bags", "bag_info")
+    ]
+    policy = ToolPolicy()
+    assert (policy.shown(tools, typo), policy.callable_names(tools, typo)) == ([], [])
+    assert "tool profile 'typo' is not one this server knows (core, full)" in policy.refusal(tools[0], typo)
+    replica = ToolPolicy(profiles={"full": DEFAULT_PROFILES["full"]})  # configured without the core profile
+    assert [t.name for t in policy.shown(tools, core)] == ["list_bags", "bag_info"]
+    assert replica.shown(tools, core) == []
