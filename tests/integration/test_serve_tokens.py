@@ -133,3 +133,18 @@ async def test_a_profile_the_server_does_not_know_grants_nothing(served: tuple[s
     made = bagmcp("token", "create", "typo2", "--profile", "typo", "--data", str(data))
     assert made.returncode == 1
     assert "no tool profile 'typo'; profiles: core, full" in made.stderr
+
+
+def test_the_admin_api_refuses_bad_tokens_with_400_and_a_sentence(served: tuple[str, Path]) -> None:
+    url, _ = served
+    admin = {"Authorization": f"Bearer {ADMIN}"}
+    asked = [
+        ({"name": "far", "expires": "9" * 400 + "d"}, "is too long: at most 36500d"),
+        ({"name": "typo-api", "profile": "typo"}, "no tool profile 'typo'"),
+        ({"name": "local"}, "is the name of another kind of caller"),
+    ]
+    for body, sentence in asked:
+        answer = httpx.post(f"{url}/api/v1/tokens", json=body, headers=admin, timeout=10)
+        assert answer.status_code == 400, answer.text
+        assert sentence in answer.json()["error"]["message"]
+        assert len(answer.text) < 400
