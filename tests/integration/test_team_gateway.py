@@ -92,6 +92,12 @@ async def test_allow_and_deny_globs_hide_tools_and_refuse_their_calls(stack: Sta
         assert "not enabled" in await call_error(client, "plot_2d", bag="x")
     reader = new_token(stack, "reader-tools", "--scopes", "read")
     assert "filter_bag" not in await tool_names(stack.url, reader)  # it creates bags: upload scope
+    artifact = f"{stack.url}/api/v1/artifacts/0123456789abcdef01234567"  # REST through the proxy: the same rule
+    assert httpx.get(artifact, headers={"Authorization": f"Bearer {no_plots}"}).status_code == 403
+    assert httpx.get(artifact, headers={"Authorization": f"Bearer {TOKEN}"}).status_code == 404
+    as_only_bags = {"Authorization": f"Bearer {only_bags}"}
+    assert httpx.get(f"{stack.url}/api/v1/bags", headers=as_only_bags).status_code == 200
+    assert httpx.get(f"{stack.url}/api/v1/bags/nothing/download", headers=as_only_bags).status_code == 403
 
 
 async def test_a_revoked_and_an_expired_token_are_refused(stack: Stack) -> None:
@@ -211,7 +217,7 @@ async def test_jwts_of_the_identity_provider_are_accepted_and_others_refused(
     with run_gateway(stack, "gateway-jwt", port, extra):
         url = f"http://127.0.0.1:{port}"
         assert "bag_info" in await tool_names(url, _jwt(key))
-        core = await tool_names(url, _jwt(key, sub="bob", bagmcp_profile="core"))
+        core = await tool_names(url, _jwt(key, sub="bob", bagmcp_profile="core", scope="read upload"))
         assert set(core) == CORE
         stranger = rsa.generate_private_key(public_exponent=65537, key_size=2048)
         for refused in (
@@ -224,6 +230,10 @@ async def test_jwts_of_the_identity_provider_are_accepted_and_others_refused(
             assert answer.status_code == 401
         no_scope = httpx.get(f"{url}/api/v1/bags", headers={"Authorization": f"Bearer {_jwt(key, scope='')}"})
         assert no_scope.status_code == 403
+        assert "bag_info" in await tool_names(url, _jwt(key, scope=None, scp=["read"]))  # scp as the README says
+        assert await tool_names(url, _jwt(key, bagmcp_profile="typo")) == []  # an unknown profile grants nothing
+        no_subject = httpx.get(f"{url}/api/v1/bags", headers={"Authorization": f"Bearer {_jwt(key, sub='')}"})
+        assert no_subject.status_code == 401
         assert "bag_info" in await tool_names(url, TOKEN)  # API tokens still work beside JWTs
 
 
