@@ -18,7 +18,6 @@ from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
 
-import anyio
 import httpx
 import pytest
 
@@ -31,7 +30,7 @@ from tests.fixtures.hostile_inputs import (
     write_yaml_alias_bomb,
     write_zstd_storage_bomb,
 )
-from tests.fixtures.mcp_client import call_error, http_client
+from tests.fixtures.mcp_client import call_error, http_client, ingested_bags
 from tests.fixtures.processes import BIN, capped_address_space, http_ok, peak_memory_kib, service
 from tests.fixtures.servers import free_port
 
@@ -86,12 +85,10 @@ def _listed(url: str) -> dict[str, tuple[str, str | None]]:
 
 
 async def _ingested(url: str) -> dict[str, tuple[str, str | None]]:
-    with anyio.fail_after(60):
-        while True:
-            listed = _listed(url)
-            if all(status != "ingesting" for status, _ in listed.values()):
-                return listed
-            await anyio.sleep(0.2)
+    """Each bag's status and error (from REST, which carries the error) once none is ingesting."""
+    async with http_client(f"{url}/mcp", None) as client:
+        await ingested_bags(client, timeout_s=60)
+    return _listed(url)
 
 
 async def test_stored_bombs_fail_their_ingest_with_a_sentence_naming_the_record(capped: Capped) -> None:
