@@ -24,7 +24,7 @@ def build_server(
     tools = [
         CatalogTools(access, budget_bytes=budget_bytes),
         MessageTools(access, budget_bytes=budget_bytes, cursor_key=cursor_key(guard.service_token if guard else None)),
-        SearchTools(access, work),
+        SearchTools(access, work, budget_bytes=budget_bytes),
         FleetTools(fleet, work),
     ]
     ingest = IngestWait(access.catalog, work.budget_s)

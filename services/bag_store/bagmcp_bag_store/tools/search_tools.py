@@ -10,12 +10,14 @@ from pydantic import Field, JsonValue
 
 from bagmcp_bag_store.job_kinds import FILTER, SEARCH, FilterParams, SearchParams
 from bagmcp_bag_store.query.conditions import Condition
-from bagmcp_bag_store.query.search import is_small
+from bagmcp_bag_store.query.search import search_if_small
 from bagmcp_bag_store.results import FilterResult, SearchResult
 from bagmcp_kit.answers import tool_errors
 from bagmcp_kit.arguments import READ_ONLY, WRITES, BagRef, TimeArg, TopicName, params_of
 from bagmcp_kit.jobs import LongAnswer
+from bagmcp_kit.longwork import LongWork
 from bagmcp_kit.toolsets import BagTools, tool
+from bagmcp_shared.access import BagAccess
 
 Format = Literal["ros1", "ros2-sqlite3", "ros2-mcap", "mcap-json"]  # OutputFormat's values, inline in the schema
 ConditionValue = Annotated[
@@ -43,6 +45,10 @@ def _filter_summary(result: FilterResult) -> str:
 
 
 class SearchTools(BagTools):
+    def __init__(self, access: BagAccess, work: LongWork, *, budget_bytes: int) -> None:
+        super().__init__(access, work)
+        self._budget_bytes = budget_bytes
+
     @tool(READ_ONLY)
     async def search_messages(
         self,
@@ -75,7 +81,13 @@ class SearchTools(BagTools):
                 correlate_topic=correlate_topic,
                 correlate_tolerance_s=correlate_tolerance_s,
             )
-        return await self._work.run(ctx, SEARCH, params, _search_summary, small=lambda p: is_small(self._access, p))
+        return await self._work.run(
+            ctx,
+            SEARCH,
+            params,
+            _search_summary,
+            inline=lambda p: search_if_small(self._access, p, budget_bytes=self._budget_bytes),
+        )
 
     @tool(WRITES)
     async def filter_bag(
