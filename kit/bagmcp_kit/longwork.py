@@ -104,7 +104,7 @@ class LongWork:
         matches of whole messages: about 16 ms) would hold up every other call on the event loop."""
 
         def build() -> CallToolResult:
-            result = kind.result.model_validate(raw)
+            result = raw if isinstance(raw, kind.result) else kind.result.model_validate(raw)  # inline: as it is
             with tool_errors():
                 extra = attach(result) if attach is not None else []
             return answer(LongAnswer[R](result=result), summarize(result), extra=extra, omit_none=True)

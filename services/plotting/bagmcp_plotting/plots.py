@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import struct
 from collections.abc import Callable
-from typing import Any
+from typing import Any, TypeVar
 
 import numpy as np
 from pydantic import BaseModel
@@ -18,7 +18,7 @@ from bagmcp_plotting.positions import motion_start, positions
 from bagmcp_plotting.reports import Artifact, PlotReport, SeriesOut
 from bagmcp_shared.access import BagAccess, OpenBag
 from bagmcp_shared.errors import ArgumentError
-from bagmcp_shared.jobs import JobKind, Progress, spans
+from bagmcp_shared.jobs import JobKind, Progress, Unreported, spans
 from bagmcp_shared.laser_ranges import laser_ranges
 from bagmcp_shared.topics import SCAN, choose_lidar_topic, choose_pose_topic, is_fix
 from bagmcp_shared.units import unit_of
@@ -45,6 +45,8 @@ def _window_title(ob: OpenBag, lo: int, hi: int) -> str:
 
 
 AnyKind = JobKind[Any, PlotReport]
+P = TypeVar("P", bound=BaseModel)
+Draw = Callable[[P, Progress, str | None], PlotReport]
 
 
 class Plotter:
@@ -59,13 +61,29 @@ class Plotter:
         )
         final = report.model_copy(update={"artifact": artifact})
         self._artifacts.save(key, png, final)
-        return final
+        return final.with_png(png)
 
-    def _plot(self, kind: AnyKind, params: BaseModel, bags: list[str], make: Callable[[str], PlotReport]) -> PlotReport:
+    def _plot(
+        self, kind: AnyKind, params: BaseModel, bags: list[str], make: Callable[[str], PlotReport], key: str | None
+    ) -> PlotReport:
+        """The stored plot, or ``make`` it; ``key``: the id of a plot the caller already found not stored."""
+        if key is not None:
+            return make(key)
+        found = plot_id(self._access, kind, params, bags)
+        return self._artifacts.cached(found, lambda: make(found))
+
+    def now(
+        self, draw: Draw[P], kind: AnyKind, params: P, bags: list[str], quick: Callable[[P], bool]
+    ) -> PlotReport | None:
+        """The plot answered while the caller waits, when it is stored or ``quick`` to draw; None for a job.
+        Its id (a catalog read per bag and a hash) is computed once, and its stored report looked up once."""
         key = plot_id(self._access, kind, params, bags)
-        return self._artifacts.cached(key, lambda: make(key))
+        stored = self._artifacts.find(key)
+        if stored is not None:
+            return stored
+        return draw(params, Unreported(), key) if quick(params) else None
 
-    def timeseries(self, params: kinds.TimeseriesParams, progress: Progress) -> PlotReport:
+    def timeseries(self, params: kinds.TimeseriesParams, progress: Progress, key: str | None = None) -> PlotReport:
         def make(key: str) -> PlotReport:
             with self._access.open(params.bag) as ob:
                 lo, hi = ob.window(params.start, params.end)
@@ -84,9 +102,9 @@ class Plotter:
                 )
                 return self._store(key, png, report)
 
-        return self._plot(kinds.PLOT_TIMESERIES, params, [params.bag], make)
+        return self._plot(kinds.PLOT_TIMESERIES, params, [params.bag], make, key)
 
-    def xy(self, params: kinds.XYParams, progress: Progress) -> PlotReport:
+    def xy(self, params: kinds.XYParams, progress: Progress, key: str | None = None) -> PlotReport:
         def make(key: str) -> PlotReport:
             with self._access.open(params.bag) as ob:
                 lo, hi = ob.window(params.start, params.end)
@@ -116,7 +134,7 @@ class Plotter:
                 )
                 return self._store(key, png, report)
 
-        return self._plot(kinds.PLOT_2D, params, [params.bag], make)
+        return self._plot(kinds.PLOT_2D, params, [params.bag], make, key)
 
     def xy_series(
         self, ob: OpenBag, params: kinds.XYParams, lo: int, hi: int, progress: Progress
@@ -134,7 +152,7 @@ class Plotter:
         gps = ["GPS fixes as metres east and north of the first valid fix"] if is_fix(msgtype) else []
         return x, y, [chosen, *gps]
 
-    def scan(self, params: kinds.ScanPlotParams, progress: Progress) -> PlotReport:
+    def scan(self, params: kinds.ScanPlotParams, progress: Progress, key: str | None = None) -> PlotReport:
         def make(key: str) -> PlotReport:
             with self._access.open(params.bag) as ob:
                 topic, msgtype = choose_lidar_topic(ob, params.topic)
@@ -170,9 +188,9 @@ class Plotter:
                 )
                 return self._store(key, png, report)
 
-        return self._plot(kinds.PLOT_SCAN, params, [params.bag], make)
+        return self._plot(kinds.PLOT_SCAN, params, [params.bag], make, key)
 
-    def histogram(self, params: kinds.HistogramParams, progress: Progress) -> PlotReport:
+    def histogram(self, params: kinds.HistogramParams, progress: Progress, key: str | None = None) -> PlotReport:
         def make(key: str) -> PlotReport:
             with self._access.open(params.bag) as ob:
                 lo, hi = ob.window(params.start, params.end)
@@ -192,9 +210,9 @@ class Plotter:
                 )
                 return self._store(key, png, report)
 
-        return self._plot(kinds.PLOT_HISTOGRAM, params, [params.bag], make)
+        return self._plot(kinds.PLOT_HISTOGRAM, params, [params.bag], make, key)
 
-    def compare(self, params: kinds.CompareParams, progress: Progress) -> PlotReport:
+    def compare(self, params: kinds.CompareParams, progress: Progress, key: str | None = None) -> PlotReport:
         def make(key: str) -> PlotReport:
             lines, summaries, notes, names = [], [], [], []
             first_start = first_end = None
@@ -228,7 +246,7 @@ class Plotter:
             )
             return self._store(key, png, report)
 
-        return self._plot(kinds.COMPARE_RUNS, params, params.bags, make)
+        return self._plot(kinds.COMPARE_RUNS, params, params.bags, make, key)
 
 
 _PENDING = Artifact(id="", url="", mime_type="image/png", bytes=0, width=0, height=0)

@@ -34,7 +34,7 @@ from bagmcp_plotting.job_kinds import (
     TimeseriesParams,
     XYParams,
 )
-from bagmcp_plotting.plots import Plotter, plot_id
+from bagmcp_plotting.plots import Draw, Plotter
 from bagmcp_plotting.reports import PlotReport
 from bagmcp_plotting.views import PlotViews
 from bagmcp_shared.access import BagAccess
@@ -62,7 +62,15 @@ class PlotTools(BagTools):
     def __init__(self, access: BagAccess, work: LongWork, artifacts: Artifacts) -> None:
         super().__init__(access, work)
         self._artifacts = artifacts
-        views = PlotViews(access, Plotter(access, artifacts))
+        self._plotter = plotter = Plotter(access, artifacts)
+        self._draws: dict[str, Draw[Any]] = {
+            PLOT_TIMESERIES.name: plotter.timeseries,
+            PLOT_2D.name: plotter.xy,
+            PLOT_SCAN.name: plotter.scan,
+            PLOT_HISTOGRAM.name: plotter.histogram,
+            COMPARE_RUNS.name: plotter.compare,
+        }
+        views = PlotViews(access, plotter)
         self._views: dict[str, Callable[[Any, str], View]] = {
             PLOT_TIMESERIES.name: views.timeseries,
             PLOT_2D.name: views.xy,
@@ -72,7 +80,7 @@ class PlotTools(BagTools):
         }
 
     def _attach(self, report: PlotReport) -> list[ContentBlock]:
-        png = self._artifacts.png(report.artifact.id)
+        png = report.png or self._artifacts.png(report.artifact.id)  # a plot drawn inline has its bytes
         image = ImageContent(type="image", data=base64.b64encode(png).decode(), mime_type="image/png")
         uri = ARTIFACT_URI.format(
             artifact=report.artifact.id
@@ -83,9 +91,6 @@ class PlotTools(BagTools):
     def _indexed(self, bag: str, paths: list[str]) -> bool:
         with self._access.open(bag) as ob:
             return all(path_is_indexed(ob, p) or ob.short(ob.topic_name(p.partition(".")[0])) for p in paths)
-
-    def _stored(self, kind: JobKind[Any, PlotReport], params: BaseModel, bags: list[str]) -> bool:
-        return self._artifacts.find(plot_id(self._access, kind, params, bags)) is not None
 
     async def _plot(
         self,
@@ -102,7 +107,7 @@ class PlotTools(BagTools):
             kind,
             params,
             _summary,
-            small=lambda p: self._stored(kind, p, bags) or quick(p),
+            inline=lambda p: self._plotter.now(self._draws[kind.name], kind, p, bags, quick),
             attach=self._attach,
         )
         if answer.structured_content is not None and "job" in answer.structured_content:
