@@ -46,7 +46,7 @@ def _window_title(ob: OpenBag, lo: int, hi: int) -> str:
 
 AnyKind = JobKind[Any, PlotReport]
 P = TypeVar("P", bound=BaseModel)
-Draw = Callable[[P, Progress, str | None], PlotReport]
+PlotDraw = Callable[[P, Progress, str | None], PlotReport]
 
 
 class Plotter:
@@ -73,7 +73,7 @@ class Plotter:
         return self._artifacts.cached(found, lambda: make(found))
 
     def now(
-        self, draw: Draw[P], kind: AnyKind, params: P, bags: list[str], quick: Callable[[P], bool]
+        self, draw: PlotDraw[P], kind: AnyKind, params: P, bags: list[str], quick: Callable[[P], bool]
     ) -> PlotReport | None:
         """The plot answered while the caller waits, when it is stored or ``quick`` to draw; None for a job.
         Its id (a catalog read per bag and a hash) is computed once, and its stored report looked up once."""

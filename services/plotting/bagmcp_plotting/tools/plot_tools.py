@@ -34,7 +34,7 @@ from bagmcp_plotting.job_kinds import (
     TimeseriesParams,
     XYParams,
 )
-from bagmcp_plotting.plots import Draw, Plotter
+from bagmcp_plotting.plots import PlotDraw, Plotter
 from bagmcp_plotting.reports import PlotReport
 from bagmcp_plotting.views import PlotViews
 from bagmcp_shared.access import BagAccess
@@ -63,7 +63,7 @@ class PlotTools(BagTools):
         super().__init__(access, work)
         self._artifacts = artifacts
         self._plotter = plotter = Plotter(access, artifacts)
-        self._draws: dict[str, Draw[Any]] = {
+        self._draws: dict[str, PlotDraw[Any]] = {
             PLOT_TIMESERIES.name: plotter.timeseries,
             PLOT_2D.name: plotter.xy,
             PLOT_SCAN.name: plotter.scan,
