@@ -30,9 +30,13 @@ def tool(annotations: ToolAnnotations, *, view: bool = False) -> Callable[[F], F
 
 
 def tools_of(*groups: object) -> list[ToolSpec]:
-    """The marked methods of each object, bound to it, in the order the classes define them."""
+    """The marked methods of each object, bound to it, in the order the classes define them (a ``ToolSpec``,
+    such as a declared tool's, is taken as it is)."""
     specs = []
     for group in groups:
+        if isinstance(group, ToolSpec):
+            specs.append(group)
+            continue
         for cls in reversed(type(group).__mro__):
             for name, member in vars(cls).items():
                 if isinstance(annotations := getattr(member, _MARK, None), ToolAnnotations):
