@@ -10,9 +10,9 @@ from typing import Any
 import pytest
 
 from bagmcp_bag_store.embedded import start_embedded
-from bagmcp_bag_store.filtering import filter_bag
-from bagmcp_bag_store.job_kinds import FilterParams, SearchParams
+from bagmcp_bag_store.filtering import FilterParams, filter_bag
 from bagmcp_bag_store.query.search import search_messages
+from bagmcp_bag_store.query.search_params import SearchParams
 from bagmcp_shared.jobs import Unreported
 from bagmcp_shared.resources import embedded_resources
 from tests.checks.search_checks import (

@@ -9,16 +9,15 @@ from fastapi import APIRouter
 from mcp.server.mcpserver import MCPServer
 
 from bagmcp_bag_store.api import build_router
-from bagmcp_bag_store.filtering import filter_bag
 from bagmcp_bag_store.fleet.routes import build_query_router
 from bagmcp_bag_store.fleet.service import Fleet, build_fleet
 from bagmcp_bag_store.ingest.ingest import Ingestor
 from bagmcp_bag_store.ingest.shelf import Shelf
 from bagmcp_bag_store.ingest.upload import UploadPolicy
-from bagmcp_bag_store.job_kinds import FILTER, FIND, INGEST, QUERY, SEARCH
-from bagmcp_bag_store.query.search import search_messages
+from bagmcp_bag_store.job_kinds import FIND, INGEST, QUERY
 from bagmcp_bag_store.settings import QueryLimits, UploadSettings
-from bagmcp_bag_store.tools import build_server
+from bagmcp_bag_store.tools import BAG_STORE, build_server
+from bagmcp_bag_store.tools.search_tools import Store
 from bagmcp_kit.longwork import LongWork
 from bagmcp_kit.server import Guard
 from bagmcp_shared.jobs import JobRegistry
@@ -29,10 +28,17 @@ from bagmcp_shared.resources import Resources
 class BagStoreWork:
     """What runs in the background: ingest, and the jobs the registry knows (the fleet's queries too)."""
 
-    shelf: Shelf
-    ingestor: Ingestor
+    store: Store
     registry: JobRegistry
     fleet: Fleet
+
+    @property
+    def shelf(self) -> Shelf:
+        return self.store.shelf
+
+    @property
+    def ingestor(self) -> Ingestor:
+        return self.store.ingestor
 
 
 def build_work(res: Resources, *, queries: QueryLimits | None = None) -> BagStoreWork:
@@ -41,14 +47,11 @@ def build_work(res: Resources, *, queries: QueryLimits | None = None) -> BagStor
     fleet = build_fleet(
         res.catalog, res.store, res.files, limits=queries or QueryLimits(), budget_bytes=res.max_result_bytes
     )
-    registry = JobRegistry()
-    registry.add(
-        SEARCH, lambda p, progress: search_messages(res.access, p, progress, budget_bytes=res.max_result_bytes)
-    )
-    registry.add(FILTER, lambda p, progress: filter_bag(res.access, shelf, ingestor, p, progress))
+    store = Store(res.access, shelf, ingestor, res.max_result_bytes)
+    registry = BAG_STORE.registry(store)  # search and filter, derived from their declarations
     registry.add(QUERY, fleet.query)
     registry.add(FIND, fleet.find)
-    return BagStoreWork(shelf, ingestor, registry, fleet)
+    return BagStoreWork(store, registry, fleet)
 
 
 def ingest_queue(res: Resources) -> Callable[[str], None]:
@@ -72,7 +75,7 @@ def build_bag_store(
 ) -> BagStore:
     work = build_work(res, queries=queries)
     longwork = LongWork(res.jobs, res.runner, work.registry, budget_s=res.job_budget_s)
-    server = build_server(res.access, longwork, work.fleet, budget_bytes=res.max_result_bytes, guard=guard)
+    server = build_server(work.store, longwork, work.fleet, guard=guard)
     policy = UploadPolicy(
         shelf=work.shelf,
         queue_ingest=ingest_queue(res),
