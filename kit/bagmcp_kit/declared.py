@@ -40,7 +40,8 @@ class Declared(Generic[S, P, R]):
     """One tool. ``long``: the work may take long, so it runs as a job unless ``small`` says it is quick;
     ``job``: the job kind's name within its service (default: the tool's name); ``view``: a hook that adds
     what an MCP Apps viewer draws to a finished answer (the tool then points at the service's viewer);
-    ``attach``: content added to a finished result, such as its image."""
+    ``attach``: content added to a finished result, such as its image; ``given``: the values of the fields
+    marked ``GIVEN`` that the server sets (from the caller's token or its own settings), never the caller."""
 
     name: str
     description: str
@@ -54,6 +55,14 @@ class Declared(Generic[S, P, R]):
     job: str | None = None
     view: View[S, P] | None = None
     attach: Callable[[S, R], list[ContentBlock]] | None = None
+    given: Callable[[Context, S], dict[str, Any]] | None = None
+
+
+class _Given:
+    """Marks a params field that is no argument: the server sets it (``Declared.given``) or it keeps its default."""
+
+
+GIVEN = _Given()
 
 
 @dataclass(frozen=True)
@@ -87,18 +96,20 @@ def _bound(work: Callable[[S, P, Progress], R], deps: S) -> Callable[[P, Progres
     return lambda params, progress: work(deps, params, progress)
 
 
-Run = Callable[[Context, BaseModel], Awaitable[CallToolResult]]
+Run = Callable[[Context, dict[str, object]], Awaitable[CallToolResult]]
 
 
 def _runner(service: ServiceTools[S], tool: Declared[S, P, R], deps: S, work: LongWork) -> Run:
-    """What a call does once its arguments are the typed params: long work through ``work``, short work in a
-    thread; then the view hook."""
+    """What a call does: its arguments (and the given fields) become the typed params; long work runs through
+    ``work``, short work in a thread; then the view hook."""
     attach = None if tool.attach is None else (lambda result: tool.attach(deps, result))  # type: ignore[misc]
     small = None if tool.small is None else (lambda params: tool.small(deps, params))  # type: ignore[misc]
     kind = service.kind(tool)
 
-    async def run(ctx: Context, params: BaseModel) -> CallToolResult:
-        typed: P = params  # type: ignore[assignment]
+    async def run(ctx: Context, arguments: dict[str, object]) -> CallToolResult:
+        with tool_errors():
+            given = tool.given(ctx, deps) if tool.given is not None else {}
+            typed = params_of(tool.params, **{**arguments, **given})
         if tool.long:
             done = await work.run(ctx, kind, typed, tool.summary, small=small, attach=attach)
         else:
@@ -120,17 +131,15 @@ def _short(
 def _function(tool: Declared[Any, P, R], run: Run) -> Callable[..., Awaitable[CallToolResult]]:
     """An async function named after the tool whose signature (``ctx`` and one keyword per field of the params
     model, with the field's type, bounds and description) is what the SDK turns into the input schema."""
-    names = {name: info.alias or name for name, info in tool.params.model_fields.items()}
+    fields = {name: info for name, info in tool.params.model_fields.items() if GIVEN not in info.metadata}
 
     async def call(ctx: Context, **arguments: object) -> CallToolResult:
-        with tool_errors():
-            params = params_of(tool.params, **arguments)
-        return await run(ctx, params)
+        return await run(ctx, arguments)
 
     output = LongAnswer[tool.result] if tool.long else tool.result  # type: ignore[name-defined]
     returns = Annotated[CallToolResult, output]
     parameters = [inspect.Parameter("ctx", inspect.Parameter.POSITIONAL_OR_KEYWORD, annotation=Context)]
-    parameters += [_parameter(names[name], info) for name, info in tool.params.model_fields.items()]
+    parameters += [_parameter(info.alias or name, info) for name, info in fields.items()]
     call.__name__ = call.__qualname__ = tool.name
     call.__doc__ = tool.description
     call.__signature__ = inspect.Signature(parameters, return_annotation=returns)  # type: ignore[attr-defined]

@@ -14,10 +14,10 @@ from bagmcp_bag_store.fleet.service import Fleet, build_fleet
 from bagmcp_bag_store.ingest.ingest import Ingestor
 from bagmcp_bag_store.ingest.shelf import Shelf
 from bagmcp_bag_store.ingest.upload import UploadPolicy
-from bagmcp_bag_store.job_kinds import FIND, INGEST, QUERY
+from bagmcp_bag_store.job_kinds import INGEST
 from bagmcp_bag_store.settings import QueryLimits, UploadSettings
 from bagmcp_bag_store.tools import BAG_STORE, build_server
-from bagmcp_bag_store.tools.search_tools import Store
+from bagmcp_bag_store.tools.store import Store
 from bagmcp_kit.longwork import LongWork
 from bagmcp_kit.server import Guard
 from bagmcp_shared.jobs import JobRegistry
@@ -30,7 +30,10 @@ class BagStoreWork:
 
     store: Store
     registry: JobRegistry
-    fleet: Fleet
+
+    @property
+    def fleet(self) -> Fleet:
+        return self.store.fleet
 
     @property
     def shelf(self) -> Shelf:
@@ -47,11 +50,8 @@ def build_work(res: Resources, *, queries: QueryLimits | None = None) -> BagStor
     fleet = build_fleet(
         res.catalog, res.store, res.files, limits=queries or QueryLimits(), budget_bytes=res.max_result_bytes
     )
-    store = Store(res.access, shelf, ingestor, res.max_result_bytes)
-    registry = BAG_STORE.registry(store)  # search and filter, derived from their declarations
-    registry.add(QUERY, fleet.query)
-    registry.add(FIND, fleet.find)
-    return BagStoreWork(store, registry, fleet)
+    store = Store(res.access, shelf, ingestor, fleet, res.max_result_bytes)
+    return BagStoreWork(store, BAG_STORE.registry(store))
 
 
 def ingest_queue(res: Resources) -> Callable[[str], None]:
@@ -75,7 +75,7 @@ def build_bag_store(
 ) -> BagStore:
     work = build_work(res, queries=queries)
     longwork = LongWork(res.jobs, res.runner, work.registry, budget_s=res.job_budget_s)
-    server = build_server(work.store, longwork, work.fleet, guard=guard)
+    server = build_server(work.store, longwork, guard=guard)
     policy = UploadPolicy(
         shelf=work.shelf,
         queue_ingest=ingest_queue(res),

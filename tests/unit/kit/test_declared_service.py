@@ -18,7 +18,7 @@ from pydantic import BaseModel, ConfigDict, Field
 from bagmcp_gateway.aggregator import build_gateway_server
 from bagmcp_gateway.upstreams import Upstream
 from bagmcp_kit.arguments import WRITES
-from bagmcp_kit.declared import Declared, ServiceTools
+from bagmcp_kit.declared import GIVEN, Declared, ServiceTools
 from bagmcp_kit.job_tools import build_jobs_server
 from bagmcp_kit.longwork import LongWork
 from bagmcp_kit.server import new_server
@@ -43,6 +43,7 @@ class Tally:
 class ScaleParams(BaseModel):
     value: Annotated[float, Field(description="the number to scale")]
     factor: Annotated[float, Field(gt=0, description="how many times")] = 2.0
+    unit: Annotated[str, GIVEN] = "?"  # set by the server, never an argument
 
 
 class CountParams(BaseModel):
@@ -62,7 +63,7 @@ class Counted(BaseModel):
 
 
 def scale(tally: Tally, params: ScaleParams, progress: Progress) -> Scaled:
-    return Scaled(value=params.value * params.factor, unit=tally.unit)
+    return Scaled(value=params.value * params.factor, unit=params.unit)
 
 
 def count(tally: Tally, params: CountParams, progress: Progress) -> Counted:
@@ -80,7 +81,16 @@ TALLY = ServiceTools[Tally](
     "tally",
     RUN_JOB,
     (
-        Declared("scale", "A number times a factor.", ScaleParams, Scaled, scale, lambda r: f"{r.value}", long=False),
+        Declared(
+            "scale",
+            "A number times a factor.",
+            ScaleParams,
+            Scaled,
+            scale,
+            lambda r: f"{r.value}",
+            long=False,
+            given=lambda ctx, tally: {"unit": tally.unit},
+        ),
         Declared(
             "count_up",
             "The sum 1 + 2 + ... + to; up to 10 it is done at once, beyond that as a job.",
@@ -138,6 +148,7 @@ async def test_the_declared_tools_are_listed_with_the_params_models_schemas(
     scale_tool, count_tool = tools["scale"], tools["count_up"]
     assert scale_tool.description == "A number times a factor."
     assert scale_tool.input_schema["required"] == ["value"]
+    assert set(scale_tool.input_schema["properties"]) == {"value", "factor"}
     assert scale_tool.input_schema["properties"]["factor"]["exclusiveMinimum"] == 0
     assert count_tool.input_schema["required"] == ["to"]
     assert count_tool.input_schema["properties"]["to"]["description"] == "the last number"
@@ -153,6 +164,7 @@ async def test_a_short_tool_answers_its_result(served: Served) -> None:
     async with Client(build_gateway_server(served.upstreams), cache=None) as client:
         assert await call(client, "scale", value=1.5, factor=4) == {"value": 6.0, "unit": "apples"}
         assert "factor" in await call_error(client, "scale", value=1.5, factor=0)
+        assert "unknown argument(s) unit" in await call_error(client, "scale", value=1.5, unit="pears")
 
 
 async def test_small_long_work_runs_inline_and_large_work_as_a_job_of_the_derived_kind(

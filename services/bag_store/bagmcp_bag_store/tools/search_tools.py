@@ -3,28 +3,14 @@ else a job); their params models live beside their work (query/search_params.py,
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 from bagmcp_bag_store.filtering import FilterParams, filter_bag
-from bagmcp_bag_store.ingest.ingest import Ingestor
-from bagmcp_bag_store.ingest.shelf import Shelf
 from bagmcp_bag_store.query.search import is_small, search_messages
 from bagmcp_bag_store.query.search_params import SearchParams
 from bagmcp_bag_store.results import FilterResult, SearchResult
+from bagmcp_bag_store.tools.store import Store
 from bagmcp_kit.arguments import WRITES
 from bagmcp_kit.declared import Declared
-from bagmcp_shared.access import BagAccess
 from bagmcp_shared.jobs import Progress
-
-
-@dataclass(frozen=True)
-class Store:
-    """What searching and filtering work on: the bags, where new bags go, and the answer budget."""
-
-    access: BagAccess
-    shelf: Shelf
-    ingestor: Ingestor
-    budget_bytes: int
 
 
 def _search_summary(result: SearchResult) -> str:
