@@ -137,7 +137,7 @@ def test_bags_made_by_filter_bag_are_listed_again_after_a_restart(folder: Path, 
     res = first.resources
     wait_until(lambda: all(r.status != "ingesting" for r in res.catalog.all()), timeout_s=120, what="ingest")
     params = FilterParams(bag="scenario", include_topics=["/cmd_vel"], name="cmd-only")
-    made = filter_bag(res.access, work.shelf, work.ingestor, params, Unreported())
+    made = filter_bag(res.access, work.store.shelf, work.store.ingestor, params, Unreported())
     first.runner.shutdown()
     again = embedded_resources(folder, tmp_path / "data")
     start_embedded(again)

@@ -10,7 +10,7 @@ from mcp.server.mcpserver import MCPServer
 
 from bagmcp_bag_store.api import build_router
 from bagmcp_bag_store.fleet.routes import build_query_router
-from bagmcp_bag_store.fleet.service import Fleet, build_fleet
+from bagmcp_bag_store.fleet.service import build_fleet
 from bagmcp_bag_store.ingest.ingest import Ingestor
 from bagmcp_bag_store.ingest.shelf import Shelf
 from bagmcp_bag_store.ingest.upload import UploadPolicy
@@ -30,18 +30,6 @@ class BagStoreWork:
 
     store: Store
     registry: JobRegistry
-
-    @property
-    def fleet(self) -> Fleet:
-        return self.store.fleet
-
-    @property
-    def shelf(self) -> Shelf:
-        return self.store.shelf
-
-    @property
-    def ingestor(self) -> Ingestor:
-        return self.store.ingestor
 
 
 def build_work(res: Resources, *, queries: QueryLimits | None = None) -> BagStoreWork:
@@ -77,7 +65,7 @@ def build_bag_store(
     longwork = LongWork(res.jobs, res.runner, work.registry, budget_s=res.job_budget_s)
     server = build_server(work.store, longwork, guard=guard)
     policy = UploadPolicy(
-        shelf=work.shelf,
+        shelf=work.store.shelf,
         queue_ingest=ingest_queue(res),
         upload_dir=res.scratch,
         max_bytes=uploads.max_bytes,
@@ -86,6 +74,6 @@ def build_bag_store(
         uploads=res.uploads,
     )
     routers = APIRouter()
-    routers.include_router(build_router(res.access, policy, forget=work.fleet.engine.forget))
-    routers.include_router(build_query_router(work.fleet))
+    routers.include_router(build_router(res.access, policy, forget=work.store.fleet.engine.forget))
+    routers.include_router(build_query_router(work.store.fleet))
     return BagStore(work, server, routers)
