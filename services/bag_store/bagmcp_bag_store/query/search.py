@@ -9,7 +9,6 @@ import numpy as np
 import numpy.typing as npt
 from pydantic import JsonValue
 
-from bagmcp_bag_store.job_kinds import SearchParams
 from bagmcp_bag_store.query.conditions import (
     EXTREME_CONDITIONS,
     NUMERIC_CONDITIONS,
@@ -20,6 +19,7 @@ from bagmcp_bag_store.query.conditions import (
 )
 from bagmcp_bag_store.query.correlate import correlate
 from bagmcp_bag_store.query.search_logs import log_details, with_level_numbers
+from bagmcp_bag_store.query.search_params import SearchParams
 from bagmcp_bag_store.results import ClosestApproach, SearchMatch, SearchResult
 from bagmcp_shared.access import BagAccess, OpenBag
 from bagmcp_shared.errors import ArgumentError, MessagePathError
