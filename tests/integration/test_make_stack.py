@@ -154,6 +154,12 @@ def test_the_stack_serves_with_its_own_random_secrets_and_keeps_storage_closed(s
     filer = httpx.get(f"http://127.0.0.1:{filer_port}/buckets/bagmcp/", timeout=5)
     assert filer.status_code == 404  # the filer answers no HTTP; bags are reached through S3 with its keys
     assert "scenario" not in filer.text
+    master = f"http://127.0.0.1:{int(settings['S3_PORT']) + WEED_PORTS['WEED_MASTER_PORT']}"
+    assert httpx.get(f"{master}/col/delete", params={"collection": "bagmcp"}, timeout=5).status_code == 404
+    volume = f"http://127.0.0.1:{int(settings['S3_PORT']) + WEED_PORTS['WEED_VOLUME_PORT']}"
+    refused = httpx.get(f"{volume}/admin/delete_collection", params={"collection": "bagmcp"}, timeout=5)
+    assert refused.status_code == 401
+    assert "scenario_mcap" in stack_a.bags()  # still there, still readable through S3
     with pytest.raises(redis.AuthenticationError):
         redis.Redis(port=int(settings["REDIS_PORT"]), socket_timeout=5).ping()
 
