@@ -29,6 +29,7 @@ from bagmcp_gateway.tokens.admin import TokenNotFoundError, build_admin_router
 from bagmcp_gateway.tokens.models import SCOPES, TokenRecord
 from bagmcp_gateway.tokens.store import FileTokenStore, RedisTokenStore, TokenStore
 from bagmcp_gateway.tokens.verifier import GatewayVerifier
+from bagmcp_gateway.uploads import UploadGuard, UploadStalledError
 from bagmcp_gateway.upstreams import Upstream
 from bagmcp_kit.error_shape import UniformErrors
 from bagmcp_kit.http_errors import StatusTable
@@ -37,6 +38,7 @@ from bagmcp_shared.redis_errors import answers
 from bagmcp_shared.resources import redis_client
 
 ADMIN_STATUSES: StatusTable = [(TokenNotFoundError, 404, "token_not_found")]
+UPLOAD_STATUSES: StatusTable = [(UploadStalledError, 408, "upload_stalled")]
 
 
 def _token_store(settings: GatewaySettings) -> TokenStore | None:
@@ -138,7 +140,7 @@ def create_app(
         routers=routers,
         guard=guard,
         allowed_hosts=settings.http.allowed_hosts,
-        statuses=[*ADMIN_STATUSES, *statuses],
+        statuses=[*ADMIN_STATUSES, *UPLOAD_STATUSES, *statuses],
     )
 
     shared_redis = redis_client(settings.redis_url) if settings.redis_url is not None else None
@@ -161,6 +163,7 @@ def create_app(
     def metrics() -> Response:
         return Response(gateway.metrics.exposition(), media_type=gateway.metrics.content_type)
 
+    app.add_middleware(UploadGuard, limits=settings.uploads)
     install_console(app, token_required=verifier is not None)
     install_lab_page(app)
     app.mount("/", UniformErrors(mcp_app))
