@@ -15,13 +15,13 @@ from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
-import httpx
 import pytest
 
+from bagmcp_gateway.uploads import UPLOAD_PATH
 from tests.fixtures.bagfactory import write_chatter_bag
 from tests.fixtures.processes import wait_until
 from tests.fixtures.servers import free_port
-from tests.integration.stack import OTHER_TOKEN, TOKEN, Stack, run_gateway
+from tests.integration.stack import OTHER_TOKEN, TOKEN, Stack, bagmcp, run_gateway
 
 IDLE_S = 2
 PER_TOKEN = 2
@@ -89,6 +89,8 @@ def test_an_upload_that_stalls_ends_with_408_and_a_sentence(stack: Stack, gatewa
 def test_a_token_holds_at_most_its_uploads_at_once_while_others_upload(
     stack: Stack, gateway: str, tmp_path: Path
 ) -> None:
+    gateway_log = stack.logs / "gateway-slow-uploads.log"
+    offset = gateway_log.stat().st_size
     held = [SlowUpload(gateway, TOKEN, every_s=0.3) for _ in range(PER_TOKEN)]
     try:
         time.sleep(0.5)
@@ -101,17 +103,15 @@ def test_a_token_holds_at_most_its_uploads_at_once_while_others_upload(
         assert body["error"]["code"] == "too_many_uploads"
         assert body["error"]["message"].startswith(f"this token has {PER_TOKEN} uploads running")
         bag = write_chatter_bag(tmp_path, count=50, name="beside_slow_uploads")
-        other = httpx.post(
-            f"{gateway}/api/v1/bags",
-            params={"filename": bag.name},
-            content=bag.read_bytes(),
-            headers={"Authorization": f"Bearer {OTHER_TOKEN}"},
-            timeout=30,
-        )
-        assert other.status_code == 201, other.text
+        other = bagmcp("upload", str(bag), "--url", gateway, "--token", OTHER_TOKEN, "--json")
+        assert other.returncode == 0, other.stderr
     finally:
         for upload in held:
             upload.close()
+    closed = f"went away during POST {UPLOAD_PATH}"
+    wait_until(
+        lambda: _log_after(gateway_log, offset).count(closed) == PER_TOKEN, timeout_s=10, what="a line per upload"
+    )
 
 
 def test_a_client_that_goes_away_mid_upload_costs_one_log_line(stack: Stack, gateway: str) -> None:
