@@ -6,7 +6,7 @@ from fastapi import FastAPI
 
 from bagmcp_bag_store.errors import STATUSES
 from bagmcp_bag_store.fleet.backfill import queue_fleet_backfill
-from bagmcp_bag_store.ingest.rebuild import restore_lost_catalog
+from bagmcp_bag_store.ingest.rebuild import RESTORE_WAIT_S, restore_lost_catalog
 from bagmcp_bag_store.job_kinds import QUEUE
 from bagmcp_bag_store.settings import BagStoreSettings
 from bagmcp_bag_store.wiring import build_bag_store, ingest_queue
@@ -20,7 +20,7 @@ def create_app(settings: BagStoreSettings) -> FastAPI:
     ready bags missing from the columnar store are queued to feed it."""
     service = settings.service
     resources = team_resources(service.team, queue=QUEUE)
-    restore_lost_catalog(resources.catalog, resources.store, ingest_queue(resources))
+    restore_lost_catalog(resources.catalog, resources.store, ingest_queue(resources), wait_s=RESTORE_WAIT_S)
     queue_fleet_backfill(resources.catalog, ingest_queue(resources))
     bag_store = build_bag_store(resources, uploads=settings.uploads, queries=settings.queries, guard=Guard.of(service))
     return create_service_app(
