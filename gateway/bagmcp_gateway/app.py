@@ -24,6 +24,7 @@ from bagmcp_gateway.events import RedisSubscriptionBus, channel_for
 from bagmcp_gateway.lab_routes import install_lab_page
 from bagmcp_gateway.metrics import GatewayMetrics
 from bagmcp_gateway.ratelimit import MemoryRateLimiter, RateLimiter, RedisRateLimiter
+from bagmcp_gateway.readiness import down_dependencies
 from bagmcp_gateway.settings import GatewaySettings
 from bagmcp_gateway.tokens.admin import TokenNotFoundError, build_admin_router
 from bagmcp_gateway.tokens.models import SCOPES, TokenRecord
@@ -147,16 +148,25 @@ def create_app(
 
     @app.get("/readyz")
     def readyz() -> JSONResponse:
-        """Each upstream, and Redis in team mode, up or down (the reasons go to the gateway's log, not to
-        unauthenticated callers)."""
+        """Each upstream, and Redis in team mode, up or down, and the stores a service reports down (S3 for the
+        bag-store, as it said at the catalog's last look); the reasons go to the gateway's log, not to
+        unauthenticated callers."""
         status = {name: "up" if state.up else "down" for name, state in catalog.states.items()}
         for name, up in status.items():
             gateway.metrics.upstream_up.labels(name).set(1 if up == "up" else 0)
         redis_up = shared_redis is None or answers(shared_redis)
-        ready = all(s == "up" for s in status.values()) and not catalog.conflicts and redis_up
-        body = {"ready": ready, "upstreams": status, "tools": len(catalog.tools), "conflicts": len(catalog.conflicts)}
+        stores_down = down_dependencies({name: state.dependencies for name, state in catalog.states.items()})
+        ready = all(s == "up" for s in status.values()) and not catalog.conflicts and redis_up and not stores_down
+        body: dict[str, object] = {
+            "ready": ready,
+            "upstreams": status,
+            "tools": len(catalog.tools),
+            "conflicts": len(catalog.conflicts),
+        }
         if shared_redis is not None:
             body["redis"] = "up" if redis_up else "down"
+        if stores_down:  # e.g. {"bag-store": ["s3"]}: the service answers, the store it needs does not
+            body["stores_down"] = stores_down
         return JSONResponse(body, status_code=200 if ready else 503)
 
     @app.get("/metrics", dependencies=[Depends(guard)])

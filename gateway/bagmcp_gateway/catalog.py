@@ -18,6 +18,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 import anyio
+import httpx
 import mcp.types as types
 from anyio.abc import TaskStatus
 from mcp import Client, MCPError
@@ -27,6 +28,7 @@ from mcp.shared.inbound import x_mcp_header_map
 
 from bagmcp_gateway.connections import Connections, failure_text
 from bagmcp_gateway.instructions import merged_instructions
+from bagmcp_gateway.readiness import dependencies_of
 from bagmcp_gateway.resource_routes import ResourceRoutes, UpstreamResources
 from bagmcp_gateway.upstreams import GatewayConfigError, Upstream
 
@@ -43,6 +45,7 @@ class UpstreamState:
     since: float = field(default_factory=time.time)
     instructions: str | None = None
     resources: UpstreamResources = field(default_factory=UpstreamResources)
+    dependencies: dict[str, str] = field(default_factory=dict)  # what the service says of its stores (readiness)
 
 
 @dataclass(frozen=True)
@@ -96,6 +99,7 @@ class ToolCatalog:
         self._born = time.monotonic()
         self._waited: set[str] = set()
         self._seen_up: set[str] = set()
+        self._http = httpx.AsyncClient()
         self._down = {u.name: anyio.Event() for u in upstreams}  # set (and replaced) each time one is found down
         bus.subscribe(self._heard)  # a change another replica noticed: re-list here too
 
@@ -117,6 +121,7 @@ class ToolCatalog:
             self._down.pop(upstream.name, anyio.Event()).set()
             self._down[upstream.name] = anyio.Event()
             return
+        listed.dependencies = await dependencies_of(upstream, self._http)
         self._seen_up.add(upstream.name)
         if not state.up or [t.name for t in listed.tools] != [t.name for t in state.tools]:
             log.info("upstream %s is up with %d tools", upstream.name, len(listed.tools))

@@ -13,6 +13,7 @@ from bagmcp_bag_store.wiring import build_bag_store, ingest_queue
 from bagmcp_kit.server import Guard
 from bagmcp_kit.service_app import create_service_app
 from bagmcp_shared.resources import team_resources
+from bagmcp_shared.storage import S3Store
 
 
 def create_app(settings: BagStoreSettings) -> FastAPI:
@@ -30,4 +31,5 @@ def create_app(settings: BagStoreSettings) -> FastAPI:
         service_token=service.team.service_token,
         allowed_hosts=service.http.allowed_hosts,
         statuses=STATUSES,
+        checks={"s3": resources.store.answers} if isinstance(resources.store, S3Store) else None,
     )

@@ -1,7 +1,7 @@
-"""A call in flight when its service stops ends promptly with a sentence naming the service, instead of waiting
-for the upstream's call limit (600 s by default). Real processes: Redis, weed, a bag-store and the gateway;
-no worker, so a call about a bag still being ingested waits at the bag-store (its job budget: 60 s here) while
-the bag-store is stopped."""
+"""Stopped parts, on real processes (Redis, weed, a bag-store and the gateway; no worker, so a call about a bag
+still being ingested waits at the bag-store, its job budget being 60 s here): a call in flight when its service
+stops or freezes ends promptly with a sentence naming the service (it waited for the call limit, 600 s by
+default), and /readyz says not ready, naming S3, while the S3 server is down (it stayed 200)."""
 
 from __future__ import annotations
 
@@ -13,11 +13,13 @@ from contextlib import ExitStack
 from pathlib import Path
 
 import anyio
+import httpx
 import pytest
 
 from tests.fixtures.bagfactory import write_chatter_bag
 from tests.fixtures.faults import TOKEN, FaultStack, redis_server, weed_server
 from tests.fixtures.mcp_client import call_error, http_client
+from tests.fixtures.processes import wait_until
 from tests.fixtures.restartable import Restartable
 from tests.fixtures.servers import free_ports, remove_weed_sockets
 
@@ -75,3 +77,17 @@ async def test_a_call_in_flight_when_its_service_stops_ends_promptly_naming_it(
             os.kill(bag_store.pid, signal.SIGCONT)
     assert "bag-store service" in text
     assert took < 25, f"the call took {took:.0f} s: {text}"
+
+
+def test_readyz_says_not_ready_naming_s3_while_it_is_down(waiting_stack: FaultStack) -> None:
+    readyz = f"{waiting_stack.url}/readyz"
+    assert httpx.get(readyz, timeout=10).status_code == 200
+    waiting_stack.s3_server.stop(timeout_s=15)
+    try:
+        wait_until(lambda: httpx.get(readyz, timeout=10).status_code == 503, timeout_s=30, what="not ready")
+        body = httpx.get(readyz, timeout=10).json()
+        assert body["stores_down"] == {"bag-store": ["s3"]}
+        assert body["upstreams"]["bag-store"] == "up"
+    finally:
+        waiting_stack.s3_server.start()
+    wait_until(lambda: httpx.get(readyz, timeout=10).status_code == 200, timeout_s=30, what="ready again")
