@@ -20,6 +20,7 @@ from bagmcp_cli.stack.environment import WEED_PORTS
 from tests.fixtures.bagfactory import BagKind, write_chatter_bag
 from tests.fixtures.make_stack import TOKEN, MakeStack, processes_of
 from tests.fixtures.processes import http_ok, wait_until
+from tests.fixtures.servers import weed_grpc_refuses
 
 pytestmark = pytest.mark.integration
 
@@ -47,7 +48,7 @@ def test_the_stack_serves_with_its_own_random_secrets_and_keeps_storage_closed(s
     settings = stack_a.settings
     assert len(settings["BAGMCP_SERVICE_TOKEN"]) >= 40
     assert socket.gethostname() not in settings["BAGMCP_SERVICE_TOKEN"]  # not derivable from the machine
-    for secret in ("stack.env", "redis/redis.conf", "s3/s3.json", "s3/security.toml"):
+    for secret in ("stack.env", "redis/redis.conf", "s3/s3.json", "s3/security.toml", "s3/tls/node.key"):
         assert _mode(stack_a.directory / secret) == 0o600, secret
     assert _mode(stack_a.directory) == 0o700
     filer_port = int(settings["S3_PORT"]) + WEED_PORTS["WEED_FILER_PORT"]
@@ -59,6 +60,8 @@ def test_the_stack_serves_with_its_own_random_secrets_and_keeps_storage_closed(s
     volume = f"http://127.0.0.1:{int(settings['S3_PORT']) + WEED_PORTS['WEED_VOLUME_PORT']}"
     refused = httpx.get(f"{volume}/admin/delete_collection", params={"collection": "bagmcp"}, timeout=5)
     assert refused.status_code == 401
+    grpc_ports = [int(settings["S3_PORT"]) + WEED_PORTS[name] for name in WEED_PORTS if name.endswith("GRPC_PORT")]
+    assert [weed_grpc_refuses(port) for port in grpc_ports] == ["TLSV13_ALERT_CERTIFICATE_REQUIRED"] * 4
     assert "scenario_mcap" in stack_a.bags()  # still there, still readable through S3
     with pytest.raises(redis.AuthenticationError):
         redis.Redis(port=int(settings["REDIS_PORT"]), socket_timeout=5).ping()
