@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # The Redis of `make stack`: loopback only, with the stack's password, and an append-only file so the
-# catalog, jobs and queues survive a restart.
+# catalog, jobs and queues survive a restart. Its process title stays as started: Redis would write the title
+# over its environment, where the supervisor's member mark finds the stack's processes after a crash.
 set -euo pipefail
 umask 077
 dir="$BAGMCP_STACK_DIR/redis"
@@ -13,5 +14,6 @@ dir $dir
 save ""
 appendonly yes
 appendfsync everysec
+set-proc-title no
 CONF
 exec redis-server "$dir/redis.conf"

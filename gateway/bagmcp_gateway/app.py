@@ -24,11 +24,13 @@ from bagmcp_gateway.events import RedisSubscriptionBus, channel_for
 from bagmcp_gateway.lab_routes import install_lab_page
 from bagmcp_gateway.metrics import GatewayMetrics
 from bagmcp_gateway.ratelimit import MemoryRateLimiter, RateLimiter, RedisRateLimiter
+from bagmcp_gateway.readiness import down_dependencies
 from bagmcp_gateway.settings import GatewaySettings
 from bagmcp_gateway.tokens.admin import TokenNotFoundError, build_admin_router
 from bagmcp_gateway.tokens.models import SCOPES, TokenRecord
 from bagmcp_gateway.tokens.store import FileTokenStore, RedisTokenStore, TokenStore
 from bagmcp_gateway.tokens.verifier import GatewayVerifier
+from bagmcp_gateway.uploads import UploadGuard, UploadStalledError
 from bagmcp_gateway.upstreams import Upstream
 from bagmcp_kit.error_shape import UniformErrors
 from bagmcp_kit.http_errors import StatusTable
@@ -37,6 +39,7 @@ from bagmcp_shared.redis_errors import answers
 from bagmcp_shared.resources import redis_client
 
 ADMIN_STATUSES: StatusTable = [(TokenNotFoundError, 404, "token_not_found")]
+UPLOAD_STATUSES: StatusTable = [(UploadStalledError, 408, "upload_stalled")]
 
 
 def _token_store(settings: GatewaySettings) -> TokenStore | None:
@@ -138,29 +141,39 @@ def create_app(
         routers=routers,
         guard=guard,
         allowed_hosts=settings.http.allowed_hosts,
-        statuses=[*ADMIN_STATUSES, *statuses],
+        statuses=[*ADMIN_STATUSES, *UPLOAD_STATUSES, *statuses],
     )
 
     shared_redis = redis_client(settings.redis_url) if settings.redis_url is not None else None
 
     @app.get("/readyz")
     def readyz() -> JSONResponse:
-        """Each upstream, and Redis in team mode, up or down (the reasons go to the gateway's log, not to
-        unauthenticated callers)."""
+        """Each upstream, and Redis in team mode, up or down, and the stores a service reports down (S3 for the
+        bag-store, as it said at the catalog's last look); the reasons go to the gateway's log, not to
+        unauthenticated callers."""
         status = {name: "up" if state.up else "down" for name, state in catalog.states.items()}
         for name, up in status.items():
             gateway.metrics.upstream_up.labels(name).set(1 if up == "up" else 0)
         redis_up = shared_redis is None or answers(shared_redis)
-        ready = all(s == "up" for s in status.values()) and not catalog.conflicts and redis_up
-        body = {"ready": ready, "upstreams": status, "tools": len(catalog.tools), "conflicts": len(catalog.conflicts)}
+        stores_down = down_dependencies({name: state.dependencies for name, state in catalog.states.items()})
+        ready = all(s == "up" for s in status.values()) and not catalog.conflicts and redis_up and not stores_down
+        body: dict[str, object] = {
+            "ready": ready,
+            "upstreams": status,
+            "tools": len(catalog.tools),
+            "conflicts": len(catalog.conflicts),
+        }
         if shared_redis is not None:
             body["redis"] = "up" if redis_up else "down"
+        if stores_down:  # e.g. {"bag-store": ["s3"]}: the service answers, the store it needs does not
+            body["stores_down"] = stores_down
         return JSONResponse(body, status_code=200 if ready else 503)
 
     @app.get("/metrics", dependencies=[Depends(guard)])
     def metrics() -> Response:
         return Response(gateway.metrics.exposition(), media_type=gateway.metrics.content_type)
 
+    app.add_middleware(UploadGuard, limits=settings.uploads)
     install_console(app, token_required=verifier is not None)
     install_lab_page(app)
     app.mount("/", UniformErrors(mcp_app))

@@ -7,6 +7,7 @@ from __future__ import annotations
 import json
 import logging
 import time
+from collections.abc import Awaitable, Callable
 from typing import Any, cast
 
 import anyio
@@ -20,11 +21,14 @@ from mcp.types import RequestParamsMeta
 from bagmcp_gateway.answers import WireResult, cap_answer, error_result, is_error, text_characters
 from bagmcp_gateway.audit import AuditRecord
 from bagmcp_gateway.catalog import ToolRoute
+from bagmcp_gateway.connections import sole_error
 from bagmcp_gateway.gateway import Gateway, owner_of, who
 from bagmcp_gateway.ratelimit import retry_after_s
 from bagmcp_gateway.resource_routes import with_exposed_links
+from bagmcp_gateway.upstreams import Upstream
 from bagmcp_kit.identity import owner_meta
 from bagmcp_kit.web.viewers import asking_for_views, without_view_data
+from bagmcp_shared.errors import BagmcpError
 
 log = logging.getLogger(__name__)
 
@@ -42,7 +46,8 @@ async def _forward(
     meta = owner_meta(owner_of(caller), tools=gateway.policy.callable_names(gateway.catalog.tools, caller))
     if client_supports_apps(ctx):  # the service adds the data to draw only for callers that draw it
         meta = cast(RequestParamsMeta, asking_for_views(dict(meta)))
-    with anyio.fail_after(route.upstream.call_timeout_s):
+
+    async def send() -> WireResult:
         async with gateway.connections.link(route.upstream) as link:
             if link.relay is not None:
                 params = {"name": route.original, "arguments": arguments}
@@ -52,6 +57,41 @@ async def _forward(
                 )
             result = await link.client.call_tool(route.original, arguments, progress_callback=relay_progress, meta=meta)
             return result.model_dump(by_alias=True, mode="json", exclude_none=True)
+
+    with anyio.fail_after(route.upstream.call_timeout_s):
+        return await _unless_it_goes_down(gateway, route.upstream, send)
+
+
+class UpstreamWentDownError(BagmcpError):
+    """The upstream stopped answering the gateway's listing while a call to it was in flight."""
+
+
+async def _unless_it_goes_down(
+    gateway: Gateway, upstream: Upstream, send: Callable[[], Awaitable[WireResult]]
+) -> WireResult:
+    """``send()``, or UpstreamWentDownError as soon as the catalog finds ``upstream`` down meanwhile (a service
+    that was stopped, frozen or cut off answers nothing: the call waited for its limit, 600 s by default; now
+    at most the catalog's poll plus its listing timeout, 15 s by default)."""
+    answered: list[WireResult] = []
+    down: list[str] = []
+
+    async def call() -> None:
+        answered.append(await send())
+        group.cancel_scope.cancel()
+
+    async def watch() -> None:
+        down.append(await gateway.catalog.went_down(upstream))
+        group.cancel_scope.cancel()
+
+    try:
+        async with anyio.create_task_group() as group:
+            group.start_soon(call)
+            group.start_soon(watch)
+    except ExceptionGroup as errors:  # the call's own failure, as it was raised
+        raise sole_error(errors) from None
+    if answered:
+        return answered[0]
+    raise UpstreamWentDownError(down[0] if down else "it stopped answering")
 
 
 def _missing(gateway: Gateway, name: str, record: AuditRecord) -> WireResult:
@@ -88,6 +128,13 @@ async def _checked_call(
         return error_result(f"rate limit reached for this token; retry after {after} s", retryAfterSeconds=after)
     try:
         result = await _forward(gateway, ctx, route, arguments, caller)
+    except UpstreamWentDownError as err:
+        log.warning("call of %s on %s ended: the service stopped answering (%s)", route.original, upstream.name, err)
+        record.outcome = "unavailable"
+        return error_result(
+            f"the {upstream.name} service stopped answering while it worked on {name}, so the call was ended; "
+            "try again once it is back (see /readyz)"
+        )
     except TimeoutError:
         log.warning("call of %s on %s timed out after %s s", route.original, upstream.name, upstream.call_timeout_s)
         gateway.catalog.failed(upstream)

@@ -18,6 +18,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 import anyio
+import httpx
 import mcp.types as types
 from anyio.abc import TaskStatus
 from mcp import Client, MCPError
@@ -27,6 +28,7 @@ from mcp.shared.inbound import x_mcp_header_map
 
 from bagmcp_gateway.connections import Connections, failure_text
 from bagmcp_gateway.instructions import merged_instructions
+from bagmcp_gateway.readiness import dependencies_of
 from bagmcp_gateway.resource_routes import ResourceRoutes, UpstreamResources
 from bagmcp_gateway.upstreams import GatewayConfigError, Upstream
 
@@ -43,6 +45,7 @@ class UpstreamState:
     since: float = field(default_factory=time.time)
     instructions: str | None = None
     resources: UpstreamResources = field(default_factory=UpstreamResources)
+    dependencies: dict[str, str] = field(default_factory=dict)  # what the service says of its stores (readiness)
 
 
 @dataclass(frozen=True)
@@ -96,6 +99,8 @@ class ToolCatalog:
         self._born = time.monotonic()
         self._waited: set[str] = set()
         self._seen_up: set[str] = set()
+        self._http = httpx.AsyncClient()
+        self._down = {u.name: anyio.Event() for u in upstreams}  # set (and replaced) each time one is found down
         bus.subscribe(self._heard)  # a change another replica noticed: re-list here too
 
     async def _list(self, upstream: Upstream) -> UpstreamState:
@@ -113,7 +118,10 @@ class ToolCatalog:
         except Exception as err:  # any failure means down; the others go on
             self._report_down(upstream, state, failure_text(err))
             self.states[upstream.name] = UpstreamState(False, failure_text(err), [], time.time())
+            self._down.pop(upstream.name, anyio.Event()).set()
+            self._down[upstream.name] = anyio.Event()
             return
+        listed.dependencies = await dependencies_of(upstream, self._http)
         self._seen_up.add(upstream.name)
         if not state.up or [t.name for t in listed.tools] != [t.name for t in state.tools]:
             log.info("upstream %s is up with %d tools", upstream.name, len(listed.tools))
@@ -186,6 +194,12 @@ class ToolCatalog:
     def tools_of(self, upstream: Upstream) -> list[types.Tool]:
         """The tools the gateway exposes for ``upstream`` now."""
         return [route.tool for route in self.routes.values() if route.upstream.name == upstream.name]
+
+    async def went_down(self, upstream: Upstream) -> str:
+        """Returns, with the reason, once a listing of ``upstream`` fails after this was called (a call in
+        flight to it then ends at once instead of at its call limit, 600 s by default)."""
+        await self._down[upstream.name].wait()
+        return self.states[upstream.name].error or "it stopped answering"
 
     def failed(self, upstream: Upstream) -> None:
         """A call to ``upstream`` failed in transport: re-list soon instead of at the next poll."""

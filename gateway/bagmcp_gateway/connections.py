@@ -59,13 +59,13 @@ def failure_text(err: BaseException) -> str:
     attempts failed", not "unhandled errors in a TaskGroup")."""
     while isinstance(err, BaseExceptionGroup) and len(err.exceptions) == 1:
         err = err.exceptions[0]
-    return f"{type(err).__name__}: {err}"
+    return f"{type(err).__name__}: {err}" if str(err) else type(err).__name__
 
 
-def _sole(group: ExceptionGroup[Exception]) -> Exception:
+def sole_error(group: ExceptionGroup[Exception]) -> Exception:
     """The one exception ``group`` holds (so callers see an error answer as such), or the group itself."""
     inner = group.exceptions[0] if len(group.exceptions) == 1 else group
-    return _sole(inner) if isinstance(inner, ExceptionGroup) and inner is not group else inner
+    return sole_error(inner) if isinstance(inner, ExceptionGroup) and inner is not group else inner
 
 
 class Connections:
@@ -115,7 +115,7 @@ class Connections:
                 async with upstream.client() as fresh:
                     yield Link(trusting(fresh))
             except ExceptionGroup as group:  # the client's task group wraps what was raised inside
-                raise _sole(group) from None
+                raise sole_error(group) from None
             return
         try:
             yield held

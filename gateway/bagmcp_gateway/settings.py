@@ -13,6 +13,7 @@ from bagmcp_gateway.profiles import DEFAULT_PROFILES, Profile
 from bagmcp_gateway.ratelimit import Limit
 from bagmcp_gateway.tokens.models import token_hash
 from bagmcp_gateway.tokens.verifier import JwtSettings
+from bagmcp_gateway.uploads import DEFAULT_IDLE_S, DEFAULT_PER_TOKEN, UploadLimits
 from bagmcp_gateway.upstreams import GatewayConfigError, Upstream
 from bagmcp_shared.settings import Env, HttpSettings
 
@@ -113,6 +114,7 @@ class GatewaySettings:
     audit_arguments: bool = False
     upstream_poll_s: float = 5.0
     instructions: str | None = None
+    uploads: UploadLimits = field(default_factory=UploadLimits)
 
     @property
     def authenticated(self) -> bool:
@@ -157,4 +159,8 @@ class GatewaySettings:
             audit_arguments=env.flag("BAGMCP_AUDIT_ARGUMENTS", False),
             upstream_poll_s=env.number("BAGMCP_UPSTREAM_POLL_S", 5.0),
             instructions=env.optional("BAGMCP_INSTRUCTIONS"),
+            uploads=UploadLimits(
+                idle_s=env.number("BAGMCP_UPLOAD_IDLE_S", DEFAULT_IDLE_S),
+                per_token=env.integer("BAGMCP_UPLOADS_PER_TOKEN", DEFAULT_PER_TOKEN),
+            ),
         )

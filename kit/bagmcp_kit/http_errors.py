@@ -2,12 +2,14 @@
 
 from __future__ import annotations
 
+import logging
 from collections.abc import Sequence
 
 from fastapi import FastAPI, Request
 from fastapi.exceptions import RequestValidationError
 from fastapi.responses import JSONResponse, Response
 from starlette.exceptions import HTTPException as StarletteHTTPException
+from starlette.requests import ClientDisconnect
 
 from bagmcp_shared.errors import (
     AmbiguousBagError,
@@ -38,6 +40,9 @@ SHARED_STATUSES: StatusTable = [
     (StorageError, 503, "storage_unavailable"),
 ]
 WWW_AUTHENTICATE = 'Bearer error="invalid_token"'
+CLIENT_GONE = 499  # nginx's "client closed request": nobody reads it, the access log shows it
+
+log = logging.getLogger(__name__)
 
 
 class HttpError(Exception):
@@ -85,7 +90,14 @@ def install_error_handlers(app: FastAPI, statuses: StatusTable = ()) -> None:
         message = "the server failed unexpectedly; the details are in its log (retry, or report it if it persists)"
         return error_response(500, "internal_error", message)
 
+    async def client_gone(request: Request, _err: Exception) -> Response:
+        """The client closed the connection before its request body was read (an upload cancelled or cut): one
+        line, no traceback (there were two per cut upload, gateway and service); what it sent is dropped."""
+        log.warning("the client went away during %s %s; what it sent was dropped", request.method, request.url.path)
+        return Response(status_code=CLIENT_GONE)
+
     app.add_exception_handler(BagmcpError, project_error)
+    app.add_exception_handler(ClientDisconnect, client_gone)
     app.add_exception_handler(Exception, unexpected)
     app.add_exception_handler(HttpError, http_error)
     app.add_exception_handler(StarletteHTTPException, starlette_error)

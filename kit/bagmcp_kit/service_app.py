@@ -6,11 +6,12 @@ from __future__ import annotations
 import contextlib
 import errno
 import socket
-from collections.abc import AsyncIterator, Awaitable, Callable, Sequence
+from collections.abc import AsyncIterator, Awaitable, Callable, Mapping, Sequence
 from contextlib import AbstractAsyncContextManager
 
 import uvicorn
 from fastapi import APIRouter, Depends, FastAPI, Request
+from fastapi.responses import JSONResponse
 from mcp.server.mcpserver import MCPServer
 from mcp.server.transport_security import TransportSecuritySettings
 
@@ -63,8 +64,11 @@ def create_service_app(
     allowed_hosts: Sequence[str],
     statuses: StatusTable = (),
     on_shutdown: Callable[[], None] | None = None,
+    checks: Mapping[str, Callable[[], bool]] | None = None,
 ) -> FastAPI:
-    """The service as an ASGI app. With ``service_token`` both MCP and REST require it."""
+    """The service as an ASGI app. With ``service_token`` both MCP and REST require it. ``checks`` name the
+    stores the service needs (``{"s3": ...}``), each True while it answers: ``/readyz`` says each up or down
+    (503 when one is down), and the gateway's /readyz repeats it."""
     security = HOST_CHECK_IN_MIDDLEWARE
     mcp_app = server.streamable_http_app(streamable_http_path="/mcp", transport_security=security)
 
@@ -83,8 +87,19 @@ def create_service_app(
         allowed_hosts=allowed_hosts,
         statuses=statuses,
     )
+    install_readiness(app, checks or {})
     app.mount("/", UniformErrors(mcp_app))
     return app
+
+
+def install_readiness(app: FastAPI, checks: Mapping[str, Callable[[], bool]]) -> None:
+    """``GET /readyz``: ``{"ready": bool, name: "up" | "down" ...}``, unauthenticated (names, no reasons)."""
+
+    @app.get("/readyz")
+    def readyz() -> JSONResponse:
+        states = {name: "up" if check() else "down" for name, check in checks.items()}
+        ready = all(state == "up" for state in states.values())
+        return JSONResponse({"ready": ready, **states}, status_code=200 if ready else 503)
 
 
 def serve(

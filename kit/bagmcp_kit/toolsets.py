@@ -1,5 +1,5 @@
-"""Tool classes: a service's tools are methods marked with their annotations, found and registered in
-the order they are written, so a tool is declared in one place."""
+"""Tool classes for short tools: methods marked with their annotations, found and registered in the order they
+are written. Long work is declared instead (declared.py), which derives its tool, job kind and registration."""
 
 from __future__ import annotations
 
@@ -9,8 +9,6 @@ from typing import TypeVar
 from mcp.types import ToolAnnotations
 
 from bagmcp_kit.arguments import ToolSpec
-from bagmcp_kit.longwork import LongWork
-from bagmcp_shared.access import BagAccess
 
 F = TypeVar("F", bound=Callable[..., object])
 _MARK = "__bagmcp_tool__"
@@ -30,19 +28,15 @@ def tool(annotations: ToolAnnotations, *, view: bool = False) -> Callable[[F], F
 
 
 def tools_of(*groups: object) -> list[ToolSpec]:
-    """The marked methods of each object, bound to it, in the order the classes define them."""
+    """The marked methods of each object, bound to it, in the order the classes define them (a ``ToolSpec``,
+    such as a declared tool's, is taken as it is)."""
     specs = []
     for group in groups:
+        if isinstance(group, ToolSpec):
+            specs.append(group)
+            continue
         for cls in reversed(type(group).__mro__):
             for name, member in vars(cls).items():
                 if isinstance(annotations := getattr(member, _MARK, None), ToolAnnotations):
                     specs.append(ToolSpec(getattr(group, name), annotations, view=getattr(member, _VIEW, False)))
     return specs
-
-
-class BagTools:
-    """Tools that open the bags callers name and may hand long work to a job."""
-
-    def __init__(self, access: BagAccess, work: LongWork) -> None:
-        self._access = access
-        self._work = work

@@ -5,123 +5,24 @@ when Redis lost them), two stacks side by side, and Ctrl-C stopping every proces
 from __future__ import annotations
 
 import os
-import re
 import shutil
 import signal
 import socket
 import stat
-import subprocess
 from collections.abc import Iterator
 from pathlib import Path
-from typing import Any
 
-import anyio
 import httpx
 import pytest
 import redis
 
-from bagmcp_cli.stack.environment import DEFAULT_PORTS, WEED_PORTS, ports_of, read_saved
+from bagmcp_cli.stack.environment import WEED_PORTS
 from tests.fixtures.bagfactory import BagKind, write_chatter_bag
-from tests.fixtures.mcp_client import call, http_client
-from tests.fixtures.processes import BIN, http_ok, wait_until
-
-RUN = Path(__file__).resolve().parents[2] / "deploy/stack/run.sh"
-TOKEN = "stack-test-token"
-START_TIMEOUT_S = 120
+from tests.fixtures.make_stack import TOKEN, MakeStack, processes_of
+from tests.fixtures.processes import http_ok, wait_until
+from tests.fixtures.servers import weed_grpc_refuses
 
 pytestmark = pytest.mark.integration
-
-
-def _processes_of(stack_dir: Path) -> list[int]:
-    """Live processes started for the stack in ``stack_dir`` (they all have its BAGMCP_STACK_DIR), wherever
-    they sit in the process tree (a killed worker's children are re-parented)."""
-    marker = f"BAGMCP_STACK_DIR={stack_dir}".encode()
-    found = []
-    for entry in Path("/proc").iterdir():
-        if entry.name.isdigit() and int(entry.name) != os.getpid():
-            try:
-                state = (entry / "stat").read_text().rsplit(")", 1)[1].split()[0]
-                if state != "Z" and marker in (entry / "environ").read_bytes().split(b"\0"):
-                    found.append(int(entry.name))
-            except OSError:
-                continue
-    return found
-
-
-class MakeStack:
-    """One stack directory, started and stopped with deploy/stack/run.sh."""
-
-    def __init__(self, directory: Path) -> None:
-        self.directory = directory
-        self.process: subprocess.Popen[bytes] | None = None
-        self.log = directory.parent / f"{directory.name}.log"
-
-    @property
-    def settings(self) -> dict[str, str]:
-        return read_saved(self.directory / "stack.env")
-
-    @property
-    def url(self) -> str:
-        return f"http://127.0.0.1:{self.settings['GATEWAY_PORT']}"
-
-    def start(self) -> None:
-        env = {**os.environ, "BAGMCP_STACK_DIR": str(self.directory), "BAGMCP_DEV_TOKEN": TOKEN}
-        env["PATH"] = f"{BIN}:{env['PATH']}"
-        for name in DEFAULT_PORTS:
-            env.pop(name, None)
-        with self.log.open("ab") as log:
-            self.process = subprocess.Popen(
-                [RUN], env=env, stdout=log, stderr=subprocess.STDOUT, start_new_session=True
-            )
-        wait_until(lambda: (self.directory / "stack.env").exists(), timeout_s=30, what="the stack's settings")
-        wait_until(http_ok(f"{self.url}/readyz"), timeout_s=START_TIMEOUT_S, what="the stack's gateway")
-
-    def stop(self) -> None:
-        """Ctrl-C, as in a terminal: every process of the stack ends."""
-        assert self.process is not None
-        os.kill(self.process.pid, signal.SIGINT)
-        try:
-            self.process.wait(timeout=40)
-        finally:
-            if self.process.poll() is None:
-                os.killpg(self.process.pid, signal.SIGKILL)
-        wait_until(lambda: not _processes_of(self.directory), timeout_s=30, what="every stack process to stop")
-        self.process = None
-
-    def pid_of(self, program: str) -> int:
-        started = re.findall(rf"started {re.escape(program)} \(pid (\d+)\)", self.log.read_text())
-        return int(started[-1])
-
-    def wait_for_line(self, pattern: str, *, timeout_s: float = 30) -> None:
-        wait_until(lambda: re.search(pattern, self.log.read_text()) is not None, timeout_s=timeout_s, what=pattern)
-
-    def bags(self) -> dict[str, tuple[str, str]]:
-        """name: (id, status) of every bag, as list_bags answers through the gateway."""
-
-        async def listed() -> dict[str, tuple[str, str]]:
-            async with http_client(f"{self.url}/mcp", TOKEN) as client:
-                bags = (await call(client, "list_bags", limit=500))["bags"]
-            return {b["name"]: (b["id"], b["status"]) for b in bags}
-
-        return anyio.run(listed)
-
-    def wait_ready(self, names: list[str]) -> dict[str, tuple[str, str]]:
-        wait_until(lambda: all(self.bags().get(n, ("", ""))[1] == "ready" for n in names), timeout_s=60, what="ingest")
-        return self.bags()
-
-    def upload(self, path: Path) -> dict[str, Any]:
-        command = [str(BIN / "bagmcp"), "upload", str(path), "--url", self.url, "--token", TOKEN]
-        result = subprocess.run(command, capture_output=True, text=True, timeout=120, check=False)
-        assert result.returncode == 0, result.stderr
-        return {"line": result.stdout}
-
-    def ports(self) -> set[int]:
-        return {p for name in DEFAULT_PORTS for p in ports_of(name, int(self.settings[name]))}
-
-    def command(self, *args: str) -> subprocess.CompletedProcess[str]:
-        """A command with the stack's settings (deploy/stack/run.sh ARGS)."""
-        env = {**os.environ, "BAGMCP_STACK_DIR": str(self.directory), "PATH": f"{BIN}:{os.environ['PATH']}"}
-        return subprocess.run([str(RUN), *args], env=env, capture_output=True, text=True, timeout=120, check=False)
 
 
 @pytest.fixture(scope="module")
@@ -142,18 +43,26 @@ def _mode(path: Path) -> int:
 
 
 def test_the_stack_serves_with_its_own_random_secrets_and_keeps_storage_closed(stack_a: MakeStack) -> None:
-    assert len(_processes_of(stack_a.directory)) >= 10  # supervisor, redis, weed, 3 services, 3 workers, gateway
+    assert len(processes_of(stack_a.directory)) >= 10  # supervisor, redis, weed, 3 services, 3 workers, gateway
     assert httpx.get(f"{stack_a.url}/api/v1/bags").status_code == 401
     settings = stack_a.settings
     assert len(settings["BAGMCP_SERVICE_TOKEN"]) >= 40
     assert socket.gethostname() not in settings["BAGMCP_SERVICE_TOKEN"]  # not derivable from the machine
-    for secret in ("stack.env", "redis/redis.conf", "s3/s3.json", "s3/security.toml"):
+    for secret in ("stack.env", "redis/redis.conf", "s3/s3.json", "s3/security.toml", "s3/tls/node.key"):
         assert _mode(stack_a.directory / secret) == 0o600, secret
     assert _mode(stack_a.directory) == 0o700
     filer_port = int(settings["S3_PORT"]) + WEED_PORTS["WEED_FILER_PORT"]
     filer = httpx.get(f"http://127.0.0.1:{filer_port}/buckets/bagmcp/", timeout=5)
     assert filer.status_code == 404  # the filer answers no HTTP; bags are reached through S3 with its keys
     assert "scenario" not in filer.text
+    master = f"http://127.0.0.1:{int(settings['S3_PORT']) + WEED_PORTS['WEED_MASTER_PORT']}"
+    assert httpx.get(f"{master}/col/delete", params={"collection": "bagmcp"}, timeout=5).status_code == 404
+    volume = f"http://127.0.0.1:{int(settings['S3_PORT']) + WEED_PORTS['WEED_VOLUME_PORT']}"
+    refused = httpx.get(f"{volume}/admin/delete_collection", params={"collection": "bagmcp"}, timeout=5)
+    assert refused.status_code == 401
+    grpc_ports = [int(settings["S3_PORT"]) + WEED_PORTS[name] for name in WEED_PORTS if name.endswith("GRPC_PORT")]
+    assert [weed_grpc_refuses(port) for port in grpc_ports] == ["TLSV13_ALERT_CERTIFICATE_REQUIRED"] * 4
+    assert "scenario_mcap" in stack_a.bags()  # still there, still readable through S3
     with pytest.raises(redis.AuthenticationError):
         redis.Redis(port=int(settings["REDIS_PORT"]), socket_timeout=5).ping()
 

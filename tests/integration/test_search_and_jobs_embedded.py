@@ -10,9 +10,9 @@ from typing import Any
 import pytest
 
 from bagmcp_bag_store.embedded import start_embedded
-from bagmcp_bag_store.filtering import filter_bag
-from bagmcp_bag_store.job_kinds import FilterParams, SearchParams
+from bagmcp_bag_store.filtering import FilterParams, filter_bag
 from bagmcp_bag_store.query.search import search_messages
+from bagmcp_bag_store.query.search_params import SearchParams
 from bagmcp_shared.jobs import Unreported
 from bagmcp_shared.resources import embedded_resources
 from tests.checks.search_checks import (
@@ -137,7 +137,7 @@ def test_bags_made_by_filter_bag_are_listed_again_after_a_restart(folder: Path, 
     res = first.resources
     wait_until(lambda: all(r.status != "ingesting" for r in res.catalog.all()), timeout_s=120, what="ingest")
     params = FilterParams(bag="scenario", include_topics=["/cmd_vel"], name="cmd-only")
-    made = filter_bag(res.access, work.shelf, work.ingestor, params, Unreported())
+    made = filter_bag(res.access, work.store.shelf, work.store.ingestor, params, Unreported())
     first.runner.shutdown()
     again = embedded_resources(folder, tmp_path / "data")
     start_embedded(again)

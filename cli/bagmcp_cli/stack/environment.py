@@ -17,6 +17,7 @@ import sys
 from collections.abc import Iterable, Mapping
 from pathlib import Path
 
+from bagmcp_cli.stack.leftovers import stop_leftovers
 from bagmcp_shared.errors import SettingsError
 from bagmcp_shared.settings import Env
 
@@ -161,6 +162,8 @@ def stack_settings(env: Env, *, starting: bool) -> dict[str, str]:
     stack_dir = Path(env.text("BAGMCP_STACK_DIR", ".stack")).resolve()
     if starting and (pid := running_pid(stack_dir)) is not None:
         raise SettingsError(f"a stack runs in {stack_dir} already (pid {pid}); stop it or set another BAGMCP_STACK_DIR")
+    if starting:  # its processes would hold the saved ports and the data; a supervisor that was killed left them
+        stop_leftovers(stack_dir, lambda text: print(f"bagmcp stack: {text}", file=sys.stderr, flush=True))
     stack_dir.mkdir(mode=0o700, parents=True, exist_ok=True)
     saved = read_saved(stack_dir / SAVED)
     ports = choose_ports(env, saved, starting=starting)

@@ -1,8 +1,10 @@
 """Runs the processes of a Procfile (``name: command`` lines) as `make stack` needs: output prefixed with
 each name, a process that dies restarted after a growing pause (1 s, doubling to 30 s, back to 1 s once it
 has run for a minute) with a line saying so, and the whole stack stopped with the reason when one keeps
-dying (8 exits within 5 minutes). Ctrl-C or SIGTERM stops every process (TERM, then KILL after 10 s);
-data is never touched.
+dying (8 exits within 5 minutes). Ctrl-C, SIGTERM or SIGHUP (the terminal closed) stops every process
+(TERM, then KILL after 10 s); data is never touched. Each process carries the stack directory's member mark
+(``leftovers.MEMBER``) and a watchdog in its own session stops whatever still runs once the supervisor is gone,
+however it went (SIGKILL included): the stack never runs unsupervised.
 
 ``python -m bagmcp_cli.stack.supervisor PROCFILE`` (settings in the environment, see ``environment``).
 """
@@ -23,6 +25,7 @@ from pathlib import Path
 from typing import IO, TextIO
 
 from bagmcp_cli.stack.environment import LOCK
+from bagmcp_cli.stack.leftovers import MEMBER
 from bagmcp_shared.settings import Env
 
 FIRST_PAUSE_S = 1.0
@@ -59,15 +62,16 @@ def _exit_text(code: int) -> str:
 
 
 class Supervisor:
-    def __init__(self, programs: list[Program], out: TextIO) -> None:
+    def __init__(self, programs: list[Program], out: TextIO, stack_dir: Path) -> None:
         self._programs = programs
         self._out = out
+        self._env = {**os.environ, MEMBER: str(stack_dir)}
         self._width = max(len(p.name) for p in programs)
         self._print_lock = threading.Lock()
         self._stop_reason: str | None = None
 
     def say(self, name: str, text: str) -> None:
-        with self._print_lock:
+        with self._print_lock, contextlib.suppress(OSError):  # the terminal may be gone (SIGHUP)
             self._out.write(f"{time.strftime('%H:%M:%S')} {name:<{self._width}} | {text}\n")
             self._out.flush()
 
@@ -81,6 +85,7 @@ class Supervisor:
             stdout=subprocess.PIPE,
             stderr=subprocess.STDOUT,
             stdin=subprocess.DEVNULL,
+            env=self._env,
             start_new_session=True,  # its own process group, so what it started goes with it
         )
         program.process, program.started_at, program.restart_at = process, time.monotonic(), None
@@ -158,12 +163,23 @@ def _hold_lock(stack_dir: Path) -> IO[str]:
     return handle
 
 
+def _start_watchdog(stack_dir: Path) -> subprocess.Popen[bytes]:
+    """The watchdog (``watchdog``): in a session of its own, reading a pipe only this process writes to."""
+    return subprocess.Popen(
+        [sys.executable, "-m", "bagmcp_cli.stack.watchdog", str(stack_dir)],
+        stdin=subprocess.PIPE,
+        start_new_session=True,
+    )
+
+
 def main(argv: list[str]) -> int:
-    stack_dir = Path(Env().text("BAGMCP_STACK_DIR", ".stack"))
+    stack_dir = Path(Env().text("BAGMCP_STACK_DIR", ".stack")).resolve()
     lock = _hold_lock(stack_dir)
-    supervisor = Supervisor(read_procfile(Path(argv[1])), sys.stdout)
-    for sig in (signal.SIGINT, signal.SIGTERM):
+    supervisor = Supervisor(read_procfile(Path(argv[1])), sys.stdout, stack_dir)
+    for sig in (signal.SIGINT, signal.SIGTERM, signal.SIGHUP):
         signal.signal(sig, lambda number, _frame: supervisor.request_stop(f"asked to ({signal.Signals(number).name})"))
+    watchdog = _start_watchdog(stack_dir)
+    supervisor.say("supervisor", f"started watchdog (pid {watchdog.pid})")
     try:
         return supervisor.run()
     finally:

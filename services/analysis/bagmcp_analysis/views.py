@@ -8,8 +8,9 @@ from typing import Any
 
 import numpy as np
 
-from bagmcp_analysis.job_kinds import LidarParams, TrajectoryParams
+from bagmcp_analysis.queries.lidar import LidarParams
 from bagmcp_analysis.queries.poses import read_poses
+from bagmcp_analysis.queries.trajectory import TrajectoryParams
 from bagmcp_kit.web.view_data import View, numbers, scan_entry, thin_indices
 from bagmcp_shared.access import BagAccess, OpenBag
 from bagmcp_shared.jobs import Unreported

@@ -6,13 +6,14 @@ from fastapi import FastAPI
 
 from bagmcp_bag_store.errors import STATUSES
 from bagmcp_bag_store.fleet.backfill import queue_fleet_backfill
-from bagmcp_bag_store.ingest.rebuild import restore_lost_catalog
+from bagmcp_bag_store.ingest.rebuild import RESTORE_WAIT_S, restore_lost_catalog
 from bagmcp_bag_store.job_kinds import QUEUE
 from bagmcp_bag_store.settings import BagStoreSettings
 from bagmcp_bag_store.wiring import build_bag_store, ingest_queue
 from bagmcp_kit.server import Guard
 from bagmcp_kit.service_app import create_service_app
 from bagmcp_shared.resources import team_resources
+from bagmcp_shared.storage import S3Store
 
 
 def create_app(settings: BagStoreSettings) -> FastAPI:
@@ -20,7 +21,7 @@ def create_app(settings: BagStoreSettings) -> FastAPI:
     ready bags missing from the columnar store are queued to feed it."""
     service = settings.service
     resources = team_resources(service.team, queue=QUEUE)
-    restore_lost_catalog(resources.catalog, resources.store, ingest_queue(resources))
+    restore_lost_catalog(resources.catalog, resources.store, ingest_queue(resources), wait_s=RESTORE_WAIT_S)
     queue_fleet_backfill(resources.catalog, ingest_queue(resources))
     bag_store = build_bag_store(resources, uploads=settings.uploads, queries=settings.queries, guard=Guard.of(service))
     return create_service_app(
@@ -30,4 +31,5 @@ def create_app(settings: BagStoreSettings) -> FastAPI:
         service_token=service.team.service_token,
         allowed_hosts=service.http.allowed_hosts,
         statuses=STATUSES,
+        checks={"s3": resources.store.answers} if isinstance(resources.store, S3Store) else None,
     )

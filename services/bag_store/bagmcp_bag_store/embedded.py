@@ -30,11 +30,11 @@ def start_embedded(embedded: Embedded, *, queries: QueryLimits | None = None) ->
     def ingest(bag_id: str) -> None:
         try:
             hashes.fill(bag_id)
-            if work.ingestor.ingest(bag_id) == "ready":
+            if work.store.ingestor.ingest(bag_id) == "ready":
                 res.access.warm(bag_id)  # this process answers the questions: keep the bag open for the first
         except Exception as err:  # a thread has no caller to report to: record it on the bag
             log.exception("ingest of %s failed", bag_id)
-            work.ingestor.mark_failed(bag_id, f"ingest failed ({type(err).__name__}: {err})")
+            work.store.ingestor.mark_failed(bag_id, f"ingest failed ({type(err).__name__}: {err})")
 
     embedded.runner.bind(INGEST, ingest, workers=1)
     embedded.runner.bind(RUN_JOB, lambda job_id: run_job(work.registry, res.jobs, job_id), workers=2)

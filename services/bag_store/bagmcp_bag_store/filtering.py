@@ -6,18 +6,36 @@ import hashlib
 import json
 import tempfile
 from pathlib import Path
+from typing import Annotated, Literal
+
+from pydantic import BaseModel, Field
 
 from bagmcp_bag_store.ingest.content import content_id
 from bagmcp_bag_store.ingest.ingest import Ingestor
 from bagmcp_bag_store.ingest.shelf import Shelf
 from bagmcp_bag_store.ingest.upload import sanitize_name
-from bagmcp_bag_store.job_kinds import FilterParams
 from bagmcp_bag_store.results import FilterResult
+from bagmcp_kit.arguments import BagRef, TimeArg
 from bagmcp_shared.access import BagAccess
 from bagmcp_shared.bags import BagReader
 from bagmcp_shared.bags.writer import FilterSpec, OutputFormat, default_output, write_filtered
 from bagmcp_shared.errors import ArgumentError
 from bagmcp_shared.jobs import Progress
+
+Format = Literal["ros1", "ros2-sqlite3", "ros2-mcap", "mcap-json"]  # OutputFormat's values, inline in the schema
+
+
+class FilterParams(BaseModel):
+    """The arguments of filter_bag, in the order the tool lists them."""
+
+    bag: BagRef
+    name: Annotated[str | None, Field(description="name of the new bag")] = None
+    include_topics: Annotated[list[str] | None, Field(description="keep only these")] = None
+    exclude_topics: Annotated[list[str] | None, Field(description="drop these")] = None
+    start: TimeArg | None = None
+    end: TimeArg | None = None
+    rates: Annotated[dict[str, float] | None, Field(description="max Hz per topic, e.g. {'/scan': 2}")] = None
+    format: Annotated[Format | None, Field(description="default: the source's")] = None
 
 
 def _rates(value: dict[str, float] | None) -> tuple[tuple[str, float], ...]:

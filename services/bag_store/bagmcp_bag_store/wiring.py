@@ -9,16 +9,15 @@ from fastapi import APIRouter
 from mcp.server.mcpserver import MCPServer
 
 from bagmcp_bag_store.api import build_router
-from bagmcp_bag_store.filtering import filter_bag
 from bagmcp_bag_store.fleet.routes import build_query_router
-from bagmcp_bag_store.fleet.service import Fleet, build_fleet
+from bagmcp_bag_store.fleet.service import build_fleet
 from bagmcp_bag_store.ingest.ingest import Ingestor
 from bagmcp_bag_store.ingest.shelf import Shelf
 from bagmcp_bag_store.ingest.upload import UploadPolicy
-from bagmcp_bag_store.job_kinds import FILTER, FIND, INGEST, QUERY, SEARCH
-from bagmcp_bag_store.query.search import search_messages
+from bagmcp_bag_store.job_kinds import INGEST
 from bagmcp_bag_store.settings import QueryLimits, UploadSettings
-from bagmcp_bag_store.tools import build_server
+from bagmcp_bag_store.tools import BAG_STORE, build_server
+from bagmcp_bag_store.tools.store import Store
 from bagmcp_kit.longwork import LongWork
 from bagmcp_kit.server import Guard
 from bagmcp_shared.jobs import JobRegistry
@@ -29,10 +28,8 @@ from bagmcp_shared.resources import Resources
 class BagStoreWork:
     """What runs in the background: ingest, and the jobs the registry knows (the fleet's queries too)."""
 
-    shelf: Shelf
-    ingestor: Ingestor
+    store: Store
     registry: JobRegistry
-    fleet: Fleet
 
 
 def build_work(res: Resources, *, queries: QueryLimits | None = None) -> BagStoreWork:
@@ -41,14 +38,8 @@ def build_work(res: Resources, *, queries: QueryLimits | None = None) -> BagStor
     fleet = build_fleet(
         res.catalog, res.store, res.files, limits=queries or QueryLimits(), budget_bytes=res.max_result_bytes
     )
-    registry = JobRegistry()
-    registry.add(
-        SEARCH, lambda p, progress: search_messages(res.access, p, progress, budget_bytes=res.max_result_bytes)
-    )
-    registry.add(FILTER, lambda p, progress: filter_bag(res.access, shelf, ingestor, p, progress))
-    registry.add(QUERY, fleet.query)
-    registry.add(FIND, fleet.find)
-    return BagStoreWork(shelf, ingestor, registry, fleet)
+    store = Store(res.access, shelf, ingestor, fleet, res.max_result_bytes)
+    return BagStoreWork(store, BAG_STORE.registry(store))
 
 
 def ingest_queue(res: Resources) -> Callable[[str], None]:
@@ -72,9 +63,9 @@ def build_bag_store(
 ) -> BagStore:
     work = build_work(res, queries=queries)
     longwork = LongWork(res.jobs, res.runner, work.registry, budget_s=res.job_budget_s)
-    server = build_server(res.access, longwork, work.fleet, budget_bytes=res.max_result_bytes, guard=guard)
+    server = build_server(work.store, longwork, guard=guard)
     policy = UploadPolicy(
-        shelf=work.shelf,
+        shelf=work.store.shelf,
         queue_ingest=ingest_queue(res),
         upload_dir=res.scratch,
         max_bytes=uploads.max_bytes,
@@ -83,6 +74,6 @@ def build_bag_store(
         uploads=res.uploads,
     )
     routers = APIRouter()
-    routers.include_router(build_router(res.access, policy, forget=work.fleet.engine.forget))
-    routers.include_router(build_query_router(work.fleet))
+    routers.include_router(build_router(res.access, policy, forget=work.store.fleet.engine.forget))
+    routers.include_router(build_query_router(work.store.fleet))
     return BagStore(work, server, routers)

@@ -21,4 +21,4 @@ def _work(resources: Resources) -> BagStoreWork:
 
 
 app, resources = job_worker(RUN_JOB, lambda res: _work(res).registry)
-register_ingest_task(app, lambda: _work(resources()).ingestor)
+register_ingest_task(app, lambda: _work(resources()).store.ingestor)

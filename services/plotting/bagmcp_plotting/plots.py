@@ -5,12 +5,12 @@ from __future__ import annotations
 
 import struct
 from collections.abc import Callable
-from typing import Any, TypeVar
+from typing import Annotated, Literal, TypeVar
 
 import numpy as np
-from pydantic import BaseModel
+from pydantic import BaseModel, ConfigDict, Field
 
-from bagmcp_plotting import job_kinds as kinds
+from bagmcp_kit.arguments import BagRef, OptionalTopic, TimeArg
 from bagmcp_plotting.artifacts import Artifacts, artifact_id
 from bagmcp_plotting.data import PathSeries, read_path, read_paths
 from bagmcp_plotting.drawing import Line, render_histogram, render_overlay, render_scan, render_timeseries, render_xy
@@ -18,7 +18,7 @@ from bagmcp_plotting.positions import motion_start, positions
 from bagmcp_plotting.reports import Artifact, PlotReport, SeriesOut
 from bagmcp_shared.access import BagAccess, OpenBag
 from bagmcp_shared.errors import ArgumentError
-from bagmcp_shared.jobs import JobKind, Progress, Unreported, spans
+from bagmcp_shared.jobs import Progress, Unreported, spans
 from bagmcp_shared.laser_ranges import laser_ranges
 from bagmcp_shared.topics import SCAN, choose_lidar_topic, choose_pose_topic, is_fix
 from bagmcp_shared.units import unit_of
@@ -35,16 +35,72 @@ def _png_size(png: bytes) -> tuple[int, int]:
     return int(width), int(height)
 
 
-def plot_id(access: BagAccess, kind: AnyKind, params: BaseModel, bags: list[str]) -> str:
+# Each plot's name: its job kind is plotting.<name> (tools/plot_tools.py), and so is its artifact ids' kind.
+TIMESERIES, XY, SCAN_PLOT, HISTOGRAM, COMPARE = "timeseries", "xy", "scan", "histogram", "compare"
+Path = Annotated[str, Field(description="e.g. /odom.twist.twist.linear.x")]
+
+
+class TimeseriesParams(BaseModel):
+    """The arguments of plot_timeseries."""
+
+    bag: BagRef
+    paths: Annotated[list[str], Field(min_length=1, max_length=8, description="message paths (1-8)")]
+    start: TimeArg | None = None
+    end: TimeArg | None = None
+    style: Literal["line", "step", "scatter"] = "line"
+    title: Annotated[str | None, Field(description="default: the paths and window")] = None
+
+
+class XYParams(BaseModel):
+    """The arguments of plot_2d."""
+
+    bag: BagRef
+    x: Annotated[str | None, Field(description="message path")] = None
+    y: Annotated[str | None, Field(description="path on x's topic")] = None
+    topic: OptionalTopic = None
+    start: TimeArg | None = None
+    end: TimeArg | None = None
+    color_by_time: bool = False
+
+
+class ScanPlotParams(BaseModel):
+    """The arguments of plot_lidar_scan (``within`` is ``within_m`` in the job)."""
+
+    model_config = ConfigDict(validate_by_name=True, validate_by_alias=True)
+
+    bag: BagRef
+    time: TimeArg
+    topic: OptionalTopic = None
+    within_m: Annotated[float | None, Field(gt=0, alias="within", description="m: draw this circle")] = None
+
+
+class HistogramParams(BaseModel):
+    """The arguments of plot_histogram."""
+
+    bag: BagRef
+    path: Path
+    start: TimeArg | None = None
+    end: TimeArg | None = None
+    bins: Annotated[int | None, Field(ge=2, le=500, description="default: automatic")] = None
+
+
+class CompareParams(BaseModel):
+    """The arguments of compare_runs."""
+
+    bags: Annotated[list[str], Field(min_length=1, max_length=6, description="bag ids or names (1-6)")]
+    path: Path
+    align: Literal["start", "motion"] = "start"
+
+
+def plot_id(access: BagAccess, plot: str, params: BaseModel, bags: list[str]) -> str:
     """The artifact id of a plot: the same request on the same bag contents always gets the same id."""
-    return artifact_id(kind.name, params, [access.ready(b).id for b in bags])
+    return artifact_id(f"plotting.{plot}", params, [access.ready(b).id for b in bags])
 
 
 def _window_title(ob: OpenBag, lo: int, hi: int) -> str:
     return f"{ob.name}, {(lo - ob.start_ns) / 1e9:.1f}-{(hi - ob.start_ns) / 1e9:.1f} s"
 
 
-AnyKind = JobKind[Any, PlotReport]
 P = TypeVar("P", bound=BaseModel)
 PlotDraw = Callable[[P, Progress, str | None], PlotReport]
 
@@ -64,26 +120,26 @@ class Plotter:
         return final.with_png(png)
 
     def _plot(
-        self, kind: AnyKind, params: BaseModel, bags: list[str], make: Callable[[str], PlotReport], key: str | None
+        self, plot: str, params: BaseModel, bags: list[str], make: Callable[[str], PlotReport], key: str | None
     ) -> PlotReport:
         """The stored plot, or ``make`` it; ``key``: the id of a plot the caller already found not stored."""
         if key is not None:
             return make(key)
-        found = plot_id(self._access, kind, params, bags)
+        found = plot_id(self._access, plot, params, bags)
         return self._artifacts.cached(found, lambda: make(found))
 
     def now(
-        self, draw: PlotDraw[P], kind: AnyKind, params: P, bags: list[str], quick: Callable[[P], bool]
+        self, draw: PlotDraw[P], plot: str, params: P, bags: list[str], quick: Callable[[P], bool]
     ) -> PlotReport | None:
         """The plot answered while the caller waits, when it is stored or ``quick`` to draw; None for a job.
         Its id (a catalog read per bag and a hash) is computed once, and its stored report looked up once."""
-        key = plot_id(self._access, kind, params, bags)
+        key = plot_id(self._access, plot, params, bags)
         stored = self._artifacts.find(key)
         if stored is not None:
             return stored
         return draw(params, Unreported(), key) if quick(params) else None
 
-    def timeseries(self, params: kinds.TimeseriesParams, progress: Progress, key: str | None = None) -> PlotReport:
+    def timeseries(self, params: TimeseriesParams, progress: Progress, key: str | None = None) -> PlotReport:
         def make(key: str) -> PlotReport:
             with self._access.open(params.bag) as ob:
                 lo, hi = ob.window(params.start, params.end)
@@ -102,9 +158,9 @@ class Plotter:
                 )
                 return self._store(key, png, report)
 
-        return self._plot(kinds.PLOT_TIMESERIES, params, [params.bag], make, key)
+        return self._plot(TIMESERIES, params, [params.bag], make, key)
 
-    def xy(self, params: kinds.XYParams, progress: Progress, key: str | None = None) -> PlotReport:
+    def xy(self, params: XYParams, progress: Progress, key: str | None = None) -> PlotReport:
         def make(key: str) -> PlotReport:
             with self._access.open(params.bag) as ob:
                 lo, hi = ob.window(params.start, params.end)
@@ -134,10 +190,10 @@ class Plotter:
                 )
                 return self._store(key, png, report)
 
-        return self._plot(kinds.PLOT_2D, params, [params.bag], make, key)
+        return self._plot(XY, params, [params.bag], make, key)
 
     def xy_series(
-        self, ob: OpenBag, params: kinds.XYParams, lo: int, hi: int, progress: Progress
+        self, ob: OpenBag, params: XYParams, lo: int, hi: int, progress: Progress
     ) -> tuple[PathSeries, PathSeries, list[str]]:
         if params.x is not None and params.y is not None:
             x, y = read_paths(ob, [params.x, params.y], lo, hi, progress)
@@ -152,7 +208,7 @@ class Plotter:
         gps = ["GPS fixes as metres east and north of the first valid fix"] if is_fix(msgtype) else []
         return x, y, [chosen, *gps]
 
-    def scan(self, params: kinds.ScanPlotParams, progress: Progress, key: str | None = None) -> PlotReport:
+    def scan(self, params: ScanPlotParams, progress: Progress, key: str | None = None) -> PlotReport:
         def make(key: str) -> PlotReport:
             with self._access.open(params.bag) as ob:
                 topic, msgtype = choose_lidar_topic(ob, params.topic)
@@ -188,9 +244,9 @@ class Plotter:
                 )
                 return self._store(key, png, report)
 
-        return self._plot(kinds.PLOT_SCAN, params, [params.bag], make, key)
+        return self._plot(SCAN_PLOT, params, [params.bag], make, key)
 
-    def histogram(self, params: kinds.HistogramParams, progress: Progress, key: str | None = None) -> PlotReport:
+    def histogram(self, params: HistogramParams, progress: Progress, key: str | None = None) -> PlotReport:
         def make(key: str) -> PlotReport:
             with self._access.open(params.bag) as ob:
                 lo, hi = ob.window(params.start, params.end)
@@ -210,9 +266,9 @@ class Plotter:
                 )
                 return self._store(key, png, report)
 
-        return self._plot(kinds.PLOT_HISTOGRAM, params, [params.bag], make, key)
+        return self._plot(HISTOGRAM, params, [params.bag], make, key)
 
-    def compare(self, params: kinds.CompareParams, progress: Progress, key: str | None = None) -> PlotReport:
+    def compare(self, params: CompareParams, progress: Progress, key: str | None = None) -> PlotReport:
         def make(key: str) -> PlotReport:
             lines, summaries, notes, names = [], [], [], []
             first_start = first_end = None
@@ -246,7 +302,7 @@ class Plotter:
             )
             return self._store(key, png, report)
 
-        return self._plot(kinds.COMPARE_RUNS, params, params.bags, make, key)
+        return self._plot(COMPARE, params, params.bags, make, key)
 
 
 _PENDING = Artifact(id="", url="", mime_type="image/png", bytes=0, width=0, height=0)

@@ -7,11 +7,10 @@ from __future__ import annotations
 import numpy as np
 
 from bagmcp_kit.web.view_data import View, numbers, scan_entry
-from bagmcp_plotting import job_kinds as kinds
 from bagmcp_plotting.data import PathSeries, read_path, read_paths
 from bagmcp_plotting.drawing.decimate import extreme_indices, minmax_decimate
 from bagmcp_plotting.drawing.histogram import freedman_diaconis_bins
-from bagmcp_plotting.plots import Plotter
+from bagmcp_plotting.plots import CompareParams, HistogramParams, Plotter, ScanPlotParams, TimeseriesParams, XYParams
 from bagmcp_plotting.positions import motion_start
 from bagmcp_shared.access import BagAccess, OpenBag
 from bagmcp_shared.jobs import Unreported
@@ -35,7 +34,7 @@ class PlotViews:
         self._access = access
         self._plotter = plotter
 
-    def timeseries(self, params: kinds.TimeseriesParams, title: str) -> View:
+    def timeseries(self, params: TimeseriesParams, title: str) -> View:
         with self._access.open(params.bag) as ob:
             lo, hi = ob.window(params.start, params.end)
             series = read_paths(ob, params.paths, lo, hi, Unreported())
@@ -46,7 +45,7 @@ class PlotViews:
                 "series": [_of(s, ob) for s in series],
             }
 
-    def xy(self, params: kinds.XYParams, title: str) -> View:
+    def xy(self, params: XYParams, title: str) -> View:
         with self._access.open(params.bag) as ob:
             lo, hi = ob.window(params.start, params.end)
             x, y, _ = self._plotter.xy_series(ob, params, lo, hi, Unreported())
@@ -63,7 +62,7 @@ class PlotViews:
                 "stops": [],
             }
 
-    def scan(self, params: kinds.ScanPlotParams, title: str) -> View:
+    def scan(self, params: ScanPlotParams, title: str) -> View:
         with self._access.open(params.bag) as ob:
             topic, _ = choose_lidar_topic(ob, params.topic)
             raw = ob.nearest(topic, ob.time(params.time))
@@ -76,7 +75,7 @@ class PlotViews:
                 "scans": [entry],
             }
 
-    def histogram(self, params: kinds.HistogramParams, title: str) -> View:
+    def histogram(self, params: HistogramParams, title: str) -> View:
         with self._access.open(params.bag) as ob:
             lo, hi = ob.window(params.start, params.end)
             series = read_path(ob, params.path, lo, hi, Unreported())
@@ -91,7 +90,7 @@ class PlotViews:
             "counts": [int(c) for c in counts],
         }
 
-    def compare(self, params: kinds.CompareParams, title: str) -> View:
+    def compare(self, params: CompareParams, title: str) -> View:
         lines = []
         for bag in params.bags:
             with self._access.open(bag) as ob:

@@ -8,23 +8,16 @@ from mcp.server.mcpserver import MCPServer
 from bagmcp_kit.longwork import LongWork
 from bagmcp_kit.server import Guard
 from bagmcp_plotting.artifacts import Artifacts, build_artifact_router
-from bagmcp_plotting.job_kinds import COMPARE_RUNS, PLOT_2D, PLOT_HISTOGRAM, PLOT_SCAN, PLOT_TIMESERIES
-from bagmcp_plotting.plots import Plotter
-from bagmcp_plotting.tools import build_server
+from bagmcp_plotting.tools import PLOTTING, build_server
+from bagmcp_plotting.tools.plot_tools import Plotting
 from bagmcp_shared.access import BagAccess
 from bagmcp_shared.jobs import JobRegistry
 from bagmcp_shared.resources import Resources
 
 
 def build_registry(access: BagAccess, artifacts: Artifacts) -> JobRegistry:
-    plotter = Plotter(access, artifacts)
-    registry = JobRegistry()
-    registry.add(PLOT_TIMESERIES, plotter.timeseries)
-    registry.add(PLOT_2D, plotter.xy)
-    registry.add(PLOT_SCAN, plotter.scan)
-    registry.add(PLOT_HISTOGRAM, plotter.histogram)
-    registry.add(COMPARE_RUNS, plotter.compare)
-    return registry
+    """Every plot as a job kind bound to its plotter (derived from the declarations)."""
+    return PLOTTING.registry(Plotting.of(access, artifacts))
 
 
 def build_plotting(

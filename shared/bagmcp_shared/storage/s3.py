@@ -34,6 +34,7 @@ if TYPE_CHECKING:
 PART_SIZE = 16 * 1024 * 1024
 CONNECT_TIMEOUT_S = 3.0
 READ_TIMEOUT_S = 60.0
+PROBE_TIMEOUT_S = 3.0
 _MISSING_CODES = frozenset({"NoSuchKey", "NoSuchObject"})
 _TRANSPORT_ERRORS = (HTTPError, MinioException)
 
@@ -44,6 +45,17 @@ def _http_client(read_timeout_s: float, ca_file: str | None) -> urllib3.PoolMana
         timeout=Timeout(connect=CONNECT_TIMEOUT_S, read=read_timeout_s),
         retries=Retry(total=3, connect=1, read=1, backoff_factor=0.2, status_forcelist=(500, 502, 503, 504)),
         maxsize=10,
+        cert_reqs="CERT_REQUIRED",
+        ca_certs=ca_file or certifi.where(),
+    )
+
+
+def _probe_client(ca_file: str | None) -> urllib3.PoolManager:
+    """For ``S3Store.answers``: one try, seconds at most (a frozen server must not hold /readyz)."""
+    return urllib3.PoolManager(
+        timeout=Timeout(connect=PROBE_TIMEOUT_S, read=PROBE_TIMEOUT_S),
+        retries=False,
+        maxsize=2,
         cert_reqs="CERT_REQUIRED",
         ca_certs=ca_file or certifi.where(),
     )
@@ -77,6 +89,14 @@ class S3Store(StreamPutters):
                 region=region,
                 http_client=_http_client(read_timeout_s, ca_file),
             )
+            self._probe = Minio(
+                endpoint,
+                access_key=access_key,
+                secret_key=secret_key,
+                secure=secure,
+                region=region,
+                http_client=_probe_client(ca_file),
+            )
         except ValueError as err:
             raise StorageError(f"Cannot use bucket {bucket!r} at {self._url}: {err}.") from err
 
@@ -84,6 +104,14 @@ class S3Store(StreamPutters):
     def bucket(self) -> str:
         """The bucket holding every object of this store."""
         return self._bucket
+
+    def answers(self) -> bool:
+        """Whether the server answers an authenticated look at the bucket within 3 s, in one try (for
+        /readyz: the bag-store answers its tools while S3 is down)."""
+        try:
+            return bool(self._probe.bucket_exists(self._bucket))
+        except (*_TRANSPORT_ERRORS, ValueError):
+            return False
 
     def ensure_bucket(self) -> None:
         """Create the bucket unless it already exists."""

@@ -5,20 +5,12 @@ from __future__ import annotations
 
 import pytest
 
-from bagmcp_analysis.job_kinds import (
-    LidarParams,
-    LogParams,
-    StatisticsParams,
-    TfTreeParams,
-    TrajectoryParams,
-    WindowParams,
-)
-from bagmcp_analysis.queries.lidar import analyze_lidar
-from bagmcp_analysis.queries.logs import analyze_logs
-from bagmcp_analysis.queries.statistics import topic_statistics
-from bagmcp_analysis.queries.tf import get_tf_tree
-from bagmcp_analysis.queries.trajectory import analyze_trajectory
-from bagmcp_analysis.queries.window import summarize_window
+from bagmcp_analysis.queries.lidar import LidarParams, analyze_lidar
+from bagmcp_analysis.queries.logs import LogParams, analyze_logs
+from bagmcp_analysis.queries.statistics import StatisticsParams, topic_statistics
+from bagmcp_analysis.queries.tf import TfTreeParams, get_tf_tree
+from bagmcp_analysis.queries.trajectory import TrajectoryParams, analyze_trajectory
+from bagmcp_analysis.queries.window import WindowParams, summarize_window
 from bagmcp_shared.access import BagAccess
 from tests.fixtures.inprocess import InProcess
 from tests.unit.analysis.decoding import decoding

@@ -3,14 +3,16 @@
 from __future__ import annotations
 
 import math
+from typing import Annotated
 
 import numpy as np
 import numpy.typing as npt
+from pydantic import BaseModel, ConfigDict, Field
 
-from bagmcp_analysis.job_kinds import LidarParams
 from bagmcp_analysis.lidar.pointcloud import CloudField, CloudStats, cloud_stats
 from bagmcp_analysis.lidar.scan import ScanStats, first_within, minimum_profile, scan_stats
 from bagmcp_analysis.reports.lidar import Closest, FirstWithin, LidarReport, MinimumProfile
+from bagmcp_kit.arguments import BagRef, OptionalTopic, TimeArg
 from bagmcp_shared.access import BagAccess, OpenBag
 from bagmcp_shared.bags.counted import counted
 from bagmcp_shared.errors import ArgumentError
@@ -19,6 +21,21 @@ from bagmcp_shared.jobs import Progress
 from bagmcp_shared.laser_ranges import laser_ranges
 from bagmcp_shared.timebase import Instant
 from bagmcp_shared.topics import CLOUD, SCAN, choose_lidar_topic
+
+
+class LidarParams(BaseModel):
+    """The arguments of analyze_lidar_scan (``within`` is ``within_m`` in the job and the report)."""
+
+    model_config = ConfigDict(validate_by_name=True, validate_by_alias=True)
+
+    bag: BagRef
+    topic: OptionalTopic = None
+    time: Annotated[TimeArg | None, Field(description="one scan, nearest this time")] = None
+    start: TimeArg | None = None
+    end: TimeArg | None = None
+    within_m: Annotated[
+        float | None, Field(gt=0, alias="within", description="m: when something first came this close")
+    ] = None
 
 
 def _cloud(message: object) -> CloudStats:

@@ -2,9 +2,13 @@
 
 from __future__ import annotations
 
-from bagmcp_analysis.job_kinds import LogParams
+from typing import Annotated
+
+from pydantic import BaseModel, Field
+
 from bagmcp_analysis.logs.records import Burst, LogRecord, filter_records, summarize_records
 from bagmcp_analysis.reports.logs import BurstOut, LogEntry, LogReport, LogSummaryOut
+from bagmcp_kit.arguments import BagRef, Offset, TimeArg
 from bagmcp_shared.access import BagAccess, OpenBag
 from bagmcp_shared.errors import ArgumentError
 from bagmcp_shared.index import RECORD_TYPES, LogRow, decode_logs
@@ -13,6 +17,25 @@ from bagmcp_shared.log_levels import level_name
 
 ROS2_LOG = "rcl_interfaces/msg/Log"
 ENTRY_BUDGET_BYTES = 12_000
+
+
+Level = Annotated[str | None, Field(description="DEBUG, INFO, WARN, ERROR, FATAL (or number)")]
+
+
+class LogParams(BaseModel):
+    """The arguments of analyze_logs, in the order the tool lists them."""
+
+    bag: BagRef
+    level: Level = None
+    min_level: Annotated[str | None, Field(description="this level or worse")] = None
+    node: Annotated[str | None, Field(description="node name (or part of it)")] = None
+    contains: Annotated[str | None, Field(description="text in the message, any case")] = None
+    start: TimeArg | None = None
+    end: TimeArg | None = None
+    summary: bool = True
+    topic: Annotated[str | None, Field(description="default: every log topic")] = None
+    offset: Offset = 0
+    limit: Annotated[int, Field(ge=1, le=500, description="records to show")] = 50
 
 
 def log_topics(ob: OpenBag, topic: str | None) -> list[str]:

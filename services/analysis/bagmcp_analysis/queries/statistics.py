@@ -2,15 +2,26 @@
 
 from __future__ import annotations
 
+from typing import Annotated
+
 import numpy as np
 import numpy.typing as npt
+from pydantic import BaseModel, Field
 
-from bagmcp_analysis.job_kinds import StatisticsParams
 from bagmcp_analysis.reports.statistics import GapOut, TopicStatisticsReport
 from bagmcp_analysis.timing import topic_timing
+from bagmcp_kit.arguments import BagRef, TopicName
 from bagmcp_shared.access import BagAccess, OpenBag
 from bagmcp_shared.bags.stamps import topic_stamps
 from bagmcp_shared.jobs import Progress
+
+
+class StatisticsParams(BaseModel):
+    """The arguments of topic_statistics."""
+
+    bag: BagRef
+    topic: TopicName
+    gap_periods: Annotated[float, Field(gt=1, description="a gap: longer than this many periods")] = 3.0
 
 
 def stamps_of(

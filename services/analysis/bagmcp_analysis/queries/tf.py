@@ -3,14 +3,35 @@
 from __future__ import annotations
 
 import math
+from typing import Annotated
 
-from bagmcp_analysis.job_kinds import TfTreeParams, TransformParams
+from pydantic import BaseModel, Field
+
 from bagmcp_analysis.reports.tf import EdgeOut, TfTreeReport, TransformReport
 from bagmcp_analysis.tf.tree import TfBuffer, TfSample
+from bagmcp_kit.arguments import BagRef, TimeArg
 from bagmcp_shared.access import BagAccess, OpenBag
 from bagmcp_shared.errors import ArgumentError
 from bagmcp_shared.index import TransformRows, decode_transforms, tf_connections
 from bagmcp_shared.jobs import Progress, spans
+
+Frame = Annotated[str, Field(description="TF frame id")]
+
+
+class TfTreeParams(BaseModel):
+    """The arguments of get_tf_tree."""
+
+    bag: BagRef
+    time: Annotated[TimeArg | None, Field(description="default: whole bag")] = None
+
+
+class TransformParams(BaseModel):
+    """The arguments of lookup_transform."""
+
+    bag: BagRef
+    target_frame: Frame
+    source_frame: Frame
+    time: Annotated[TimeArg | None, Field(description="default: end of the bag")] = None
 
 
 def _topics(ob: OpenBag) -> list[str]:

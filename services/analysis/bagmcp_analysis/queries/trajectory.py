@@ -4,15 +4,26 @@ from __future__ import annotations
 
 import math
 
-from bagmcp_analysis.job_kinds import TrajectoryParams
+from pydantic import BaseModel
+
 from bagmcp_analysis.queries.poses import Poses, read_poses
 from bagmcp_analysis.reports.trajectory import Pose, StopOut, TrajectoryReport, Waypoint
 from bagmcp_analysis.trajectory.track import summarize_track
+from bagmcp_kit.arguments import BagRef, OptionalTopic, TimeArg
 from bagmcp_shared.access import BagAccess, OpenBag
 from bagmcp_shared.errors import ArgumentError
 from bagmcp_shared.jobs import Progress
 from bagmcp_shared.timebase import Instant
 from bagmcp_shared.topics import choose_pose_topic, is_fix
+
+
+class TrajectoryParams(BaseModel):
+    """The arguments of analyze_trajectory."""
+
+    bag: BagRef
+    topic: OptionalTopic = None
+    start: TimeArg | None = None
+    end: TimeArg | None = None
 
 
 def _number(value: float) -> float | None:

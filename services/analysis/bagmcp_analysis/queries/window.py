@@ -5,16 +5,18 @@ from __future__ import annotations
 
 from collections import Counter
 
-from bagmcp_analysis.job_kinds import LidarParams, WindowParams
+from pydantic import BaseModel
+
 from bagmcp_analysis.logs.records import LogRecord, filter_records
 from bagmcp_analysis.queries.activity import ORDER, activity_statement, topic_activity
-from bagmcp_analysis.queries.lidar import lidar_window
+from bagmcp_analysis.queries.lidar import LidarParams, lidar_window
 from bagmcp_analysis.queries.logs import log_entry, log_topics, read_records
 from bagmcp_analysis.queries.poses import read_poses
 from bagmcp_analysis.reports.lidar import Closest
 from bagmcp_analysis.reports.trajectory import StopOut
 from bagmcp_analysis.reports.window import FlightMode, Motion, TopicActivity, WindowReport
 from bagmcp_analysis.trajectory.track import summarize_track
+from bagmcp_kit.arguments import BagRef, TimeArg
 from bagmcp_shared.access import BagAccess, OpenBag
 from bagmcp_shared.errors import BagmcpError
 from bagmcp_shared.flight_modes import mode_changes, mode_topic, modes_in_window
@@ -26,6 +28,14 @@ MAX_LOG_ENTRIES = 10
 MAX_TOPICS = 25
 MAX_STOPS = 10
 MAX_TOPIC_STATEMENTS = 10
+
+
+class WindowParams(BaseModel):
+    """The arguments of summarize_window."""
+
+    bag: BagRef
+    start: TimeArg | None = None
+    end: TimeArg | None = None
 
 
 def _topics(ob: OpenBag, lo: int, hi: int, progress: Progress) -> list[TopicActivity]:

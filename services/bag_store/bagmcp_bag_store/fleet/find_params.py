@@ -1,37 +1,40 @@
-"""The typed parameters of the fleet's two kinds of long work (query_bags, find_bags). ``readable`` is set by
-the tool from the caller's token (the views it may read), never by the caller."""
+"""The typed parameters of the fleet's two kinds of long work (query_bags, find_bags), in the order the tools list
+them. ``readable`` is set by the server from the caller's token (the views it may read), never by the caller;
+fields marked ``GIVEN`` are no arguments."""
 
 from __future__ import annotations
 
-from typing import Literal
+from typing import Annotated, Literal
 
 from pydantic import BaseModel, Field, field_validator
+
+from bagmcp_kit.declared import GIVEN
 
 LogLevel = Literal["DEBUG", "INFO", "WARN", "ERROR", "FATAL"]
 
 
 class QueryParams(BaseModel):
-    sql: str
-    readable: list[str]
-    max_rows: int = Field(ge=1, le=1_000_000)
+    sql: Annotated[str, Field(description="one SELECT")]
+    readable: Annotated[list[str], GIVEN]
+    max_rows: Annotated[int, GIVEN, Field(ge=1, le=1_000_000)]
 
 
 class FindParams(BaseModel):
     """find_bags' conditions (names kept short: a model reads them on every turn). ``topic`` is a topic the
     bag must have, and the topic whose gaps ``gap_above`` measures when both are given."""
 
-    topic: str | None = None
-    type: str | None = None
-    between: list[float | str] | None = None
-    log_level: LogLevel | None = None
-    log_node: str | None = None
-    log_text: str | None = None
-    speed_above: float | None = Field(default=None, ge=0)
-    near: list[float] | None = None
-    scan_below: float | None = Field(default=None, gt=0)
-    gap_above: float | None = Field(default=None, gt=0)
-    limit: int = Field(default=50, ge=1, le=500)
-    readable: list[str] = Field(default_factory=list)
+    topic: Annotated[str | None, Field(description="has it")] = None
+    type: Annotated[str | None, Field(description="has one")] = None
+    between: Annotated[list[float | str] | None, Field(description="recorded: [from, to] epoch s/ISO")] = None
+    log_level: Annotated[LogLevel | None, Field(description="at or above")] = None
+    log_node: Annotated[str | None, Field(description="part")] = None
+    log_text: Annotated[str | None, Field(description="part")] = None
+    speed_above: Annotated[float | None, Field(ge=0, description="m/s")] = None
+    near: Annotated[list[float] | None, Field(description="[x, y, radius] m")] = None
+    scan_below: Annotated[float | None, Field(gt=0, description="m")] = None
+    gap_above: Annotated[float | None, Field(gt=0, description="s")] = None
+    limit: Annotated[int, GIVEN, Field(ge=1, le=500)] = 50
+    readable: Annotated[list[str], GIVEN] = Field(default_factory=list)
 
     @field_validator("between")
     @classmethod

@@ -93,9 +93,20 @@ class Ingestor:
             self._store.put_bytes(keys.ingest_summary(bag_id), json.dumps(learned).encode())
         ready = {"status": "ready", "summary": summary, "error": None, "progress": None, "index_files": index_files}
         if not self._catalog.replace(record.model_copy(update=ready)):
-            log.info("bag %s was deleted while it was ingested", bag_id)
+            self._forget_deleted(record, index_files)
+            log.info("bag %s was deleted while it was ingested; its index is removed", bag_id)
             return "deleted"
         return "ready"
+
+    def _forget_deleted(self, record: BagRecord, index_files: list[str]) -> None:
+        """Remove what this ingest stored for a bag deleted meanwhile (the delete ran before the index and the
+        summary existed, so they stayed in storage for good). Safe to repeat: deleting a missing object is a
+        no-op."""
+        if not record.in_store:
+            return
+        self._store.delete(keys.ingest_summary(record.id))
+        for name in index_files:
+            self._store.delete(keys.index_file(record.id, name))
 
     def _progress(self, record: BagRecord) -> Callable[[float, str], None]:
         """Index building, recorded after whatever share earlier stages (hashing a served file) took."""

@@ -16,10 +16,14 @@ from dataclasses import dataclass, field
 
 from bagmcp_shared import keys
 from bagmcp_shared.catalog import BagRecord, Catalog, CatalogSummary
-from bagmcp_shared.errors import NameTakenError, ObjectNotFoundError
+from bagmcp_shared.errors import NameTakenError, ObjectNotFoundError, StorageError
 from bagmcp_shared.storage import ObjectStore
 
 log = logging.getLogger(__name__)
+
+RESTORE_WAIT_S = 120.0
+FIRST_PAUSE_S = 0.5
+LONGEST_PAUSE_S = 8.0
 
 
 @dataclass
@@ -106,13 +110,46 @@ def rebuild_catalog(catalog: Catalog, store: ObjectStore, *, summaries: bool = T
     return rebuilt
 
 
-def restore_lost_catalog(catalog: Catalog, store: ObjectStore, queue_ingest: Callable[[str], None]) -> Rebuilt | None:
+def restore_lost_catalog(
+    catalog: Catalog, store: ObjectStore, queue_ingest: Callable[[str], None], *, wait_s: float = 0.0
+) -> Rebuilt | None:
     """At start-up: when the catalog is empty but storage holds bags (Redis lost its data), list them again
-    and queue the ingest of those that never finished. None when there was nothing to restore."""
-    if catalog.all() or not storage_has_bags(store):
+    and queue the ingest of those that never finished. None when there was nothing to restore. While the
+    object store fails, tries again for up to ``wait_s`` (``_until_storage_answers``)."""
+    if catalog.all():
         return None
-    rebuilt = rebuild_catalog(catalog, store)
+    rebuilt = _until_storage_answers(
+        lambda: rebuild_catalog(catalog, store) if storage_has_bags(store) else None, wait_s
+    )
+    if rebuilt is None:
+        return None
     for bag_id in rebuilt.to_ingest:
         queue_ingest(bag_id)
     log.warning("the catalog was empty while storage holds bags: %s", rebuilt)
     return rebuilt
+
+
+def _until_storage_answers(attempt: Callable[[], Rebuilt | None], wait_s: float) -> Rebuilt | None:
+    """``attempt`` (safe to repeat: bags listed already are left as they are) tried again while the object store
+    fails: an S3 server still starting answers the bucket check before it lists, and the restore crashed the
+    bag-store, each crash counting toward the supervisor's restart limit. Pauses 0.5 s, doubling to 8 s, for
+    up to ``wait_s``; one log line when it starts waiting, one when storage answered."""
+    deadline = time.monotonic() + wait_s
+    pause_s, waited = FIRST_PAUSE_S, False
+    while True:
+        try:
+            outcome = attempt()
+        except StorageError as err:
+            if time.monotonic() + pause_s > deadline:
+                raise
+            if not waited:
+                log.warning(
+                    "the object store is not ready for the catalog check (%s); trying again for %.0f s", err, wait_s
+                )
+                waited = True
+            time.sleep(pause_s)
+            pause_s = min(pause_s * 2, LONGEST_PAUSE_S)
+            continue
+        if waited:
+            log.warning("the object store answers; the catalog check is done")
+        return outcome

@@ -1,26 +1,19 @@
-"""MCP adapters for questions across bags: query_bags (SQL) and find_bags (typed conditions), and the views
-as a resource. Each caller sees the views its token's tools would show (fleet/views.py)."""
+"""The declarations of the questions across bags: query_bags (SQL) and find_bags (typed conditions), and the
+views as a resource. Each caller sees the views its token's tools would show (fleet/views.py)."""
 
 from __future__ import annotations
 
-from typing import Annotated
+from typing import Any
 
 from mcp.server.mcpserver import Context, MCPServer
-from mcp.types import CallToolResult
-from pydantic import Field
 
 from bagmcp_bag_store.fleet.answers import QueryAnswer, text_table
 from bagmcp_bag_store.fleet.find import FindAnswer
-from bagmcp_bag_store.fleet.find_params import FindParams, LogLevel, QueryParams
-from bagmcp_bag_store.fleet.service import Fleet
+from bagmcp_bag_store.fleet.find_params import FindParams, QueryParams
 from bagmcp_bag_store.fleet.views import VIEWS, views_for
-from bagmcp_bag_store.job_kinds import FIND, QUERY
-from bagmcp_kit.answers import tool_errors
-from bagmcp_kit.arguments import READ_ONLY, params_of
+from bagmcp_bag_store.tools.store import Store
+from bagmcp_kit.declared import Declared
 from bagmcp_kit.identity import callable_tools
-from bagmcp_kit.jobs import LongAnswer
-from bagmcp_kit.longwork import LongWork
-from bagmcp_kit.toolsets import tool
 
 VIEWS_URI = "bagmcp://fleet/views"
 _SERIES = ("bag", "bag_id", "topic", "t", "offset_s", "first_t", "last_t", "file", "function", "line")
@@ -36,61 +29,38 @@ def _find_summary(answer: FindAnswer) -> str:
     return f"{answer.total} of {answer.bags_queried} bags match" + (f": {shown}" if shown else "")
 
 
-class FleetTools:
-    def __init__(self, fleet: Fleet, work: LongWork) -> None:
-        self._fleet = fleet
-        self._work = work
-
-    @tool(READ_ONLY)
-    async def query_bags(
-        self, ctx: Context, sql: Annotated[str, Field(description="one SELECT")]
-    ) -> Annotated[CallToolResult, LongAnswer[QueryAnswer]]:
-        """(set below from the views)"""
-        readable = views_for(callable_tools(ctx))
-        with tool_errors():
-            params = params_of(QueryParams, sql=sql, readable=readable, max_rows=self._fleet.engine.limits.max_rows)
-        return await self._work.run(ctx, QUERY, params, text_table, small=self._fleet.query_is_small)
-
-    @tool(READ_ONLY)
-    async def find_bags(
-        self,
-        ctx: Context,
-        topic: Annotated[str | None, Field(description="has it")] = None,
-        type: Annotated[str | None, Field(description="has one")] = None,
-        between: Annotated[list[float | str] | None, Field(description="recorded: [from, to] epoch s/ISO")] = None,
-        log_level: Annotated[LogLevel | None, Field(description="at or above")] = None,
-        log_node: Annotated[str | None, Field(description="part")] = None,
-        log_text: Annotated[str | None, Field(description="part")] = None,
-        speed_above: Annotated[float | None, Field(description="m/s")] = None,
-        near: Annotated[list[float] | None, Field(description="[x, y, radius] m")] = None,
-        scan_below: Annotated[float | None, Field(description="m")] = None,
-        gap_above: Annotated[float | None, Field(description="s")] = None,
-    ) -> Annotated[CallToolResult, LongAnswer[FindAnswer]]:
-        """Bags meeting ALL conditions given, with evidence (when, how much); topic scopes gap_above.
-        Example: log_level="ERROR", near=[3, -1, 0.5]"""
-        readable = views_for(callable_tools(ctx))
-        with tool_errors():
-            params = params_of(
-                FindParams,
-                topic=topic,
-                type=type,
-                between=between,
-                log_level=log_level,
-                log_node=log_node,
-                log_text=log_text,
-                speed_above=speed_above,
-                near=near,
-                scan_below=scan_below,
-                gap_above=gap_above,
-                readable=readable,
-            )
-        return await self._work.run(ctx, FIND, params, _find_summary, small=self._fleet.find_is_small)
+def _readable(ctx: Context, store: Store) -> dict[str, Any]:
+    return {"readable": views_for(callable_tools(ctx))}
 
 
-FleetTools.query_bags.__doc__ = (
+def _query_given(ctx: Context, store: Store) -> dict[str, Any]:
+    return _readable(ctx, store) | {"max_rows": store.fleet.engine.limits.max_rows}
+
+
+QUERY = Declared(
+    "query_bags",
     "Read-only DuckDB SQL (one SELECT) over all bags. Views (all have bag; series: topic, t epoch s, "
     "offset_s): " + " ".join(_compact(n) for n in VIEWS) + f". Units: {VIEWS_URI}. "
-    "Example: SELECT bag, max(speed) FROM poses GROUP BY bag"
+    "Example: SELECT bag, max(speed) FROM poses GROUP BY bag",
+    QueryParams,
+    QueryAnswer,
+    lambda store, p, progress: store.fleet.query(p, progress),
+    text_table,
+    small=lambda store, p: store.fleet.query_is_small(p),
+    job="query",
+    given=_query_given,
+)
+FIND = Declared(
+    "find_bags",
+    "Bags meeting ALL conditions given, with evidence (when, how much); topic scopes gap_above. "
+    'Example: log_level="ERROR", near=[3, -1, 0.5]',
+    FindParams,
+    FindAnswer,
+    lambda store, p, progress: store.fleet.find(p, progress),
+    _find_summary,
+    small=lambda store, p: store.fleet.find_is_small(p),
+    job="find",
+    given=_readable,
 )
 
 

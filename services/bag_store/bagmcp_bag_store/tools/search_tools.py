@@ -1,29 +1,16 @@
-"""MCP adapters for long work: search_messages and filter_bag (inline when small, else a job)."""
+"""The declarations of the long-work tools on one bag: search_messages and filter_bag (inline when small,
+else a job); their params models live beside their work (query/search_params.py, filtering.py)."""
 
 from __future__ import annotations
 
-from typing import Annotated, Literal
-
-from mcp.server.mcpserver import Context
-from mcp.types import CallToolResult
-from pydantic import Field, JsonValue
-
-from bagmcp_bag_store.job_kinds import FILTER, SEARCH, FilterParams, SearchParams
-from bagmcp_bag_store.query.conditions import Condition
-from bagmcp_bag_store.query.search import search_if_small
+from bagmcp_bag_store.filtering import FilterParams, filter_bag
+from bagmcp_bag_store.query.search import search_if_small, search_messages
+from bagmcp_bag_store.query.search_params import SearchParams
 from bagmcp_bag_store.results import FilterResult, SearchResult
-from bagmcp_kit.answers import tool_errors
-from bagmcp_kit.arguments import READ_ONLY, WRITES, BagRef, TimeArg, TopicName, params_of
-from bagmcp_kit.jobs import LongAnswer
-from bagmcp_kit.longwork import LongWork
-from bagmcp_kit.toolsets import BagTools, tool
-from bagmcp_shared.access import BagAccess
-
-Format = Literal["ros1", "ros2-sqlite3", "ros2-mcap", "mcap-json"]  # OutputFormat's values, inline in the schema
-ConditionValue = Annotated[
-    JsonValue,
-    Field(description="number, text, [low, high] (between) or {x, y, radius} m (near_position)"),
-]
+from bagmcp_bag_store.tools.store import Store
+from bagmcp_kit.arguments import WRITES
+from bagmcp_kit.declared import Declared
+from bagmcp_shared.jobs import Progress
 
 
 def _search_summary(result: SearchResult) -> str:
@@ -44,76 +31,33 @@ def _filter_summary(result: FilterResult) -> str:
     return f"bag {result.name} ({result.bag_id}) with {result.message_count} messages{existed}{note}"
 
 
-class SearchTools(BagTools):
-    def __init__(self, access: BagAccess, work: LongWork, *, budget_bytes: int) -> None:
-        super().__init__(access, work)
-        self._budget_bytes = budget_bytes
+def _search(store: Store, params: SearchParams, progress: Progress) -> SearchResult:
+    return search_messages(store.access, params, progress, budget_bytes=store.budget_bytes)
 
-    @tool(READ_ONLY)
-    async def search_messages(
-        self,
-        ctx: Context,
-        bag: BagRef,
-        topic: TopicName,
-        condition: Condition,
-        value: ConditionValue = None,
-        field: Annotated[str | None, Field(description="path to test (default: the obvious one)")] = None,
-        start: TimeArg | None = None,
-        end: TimeArg | None = None,
-        limit: Annotated[int, Field(ge=1, le=200, description="matches to show")] = 20,
-        correlate_topic: Annotated[str | None, Field(description="add its nearest message (or /topic.path)")] = None,
-        correlate_tolerance_s: Annotated[float, Field(gt=0, le=60, description="max time apart")] = 0.1,
-    ) -> Annotated[CallToolResult, LongAnswer[SearchResult]]:
-        """Messages meeting a condition: count, first matches (max/min: where a field peaks),
-        closest approach for near_position. Example: topic=/odom, condition=near_position,
-        value={"x":1,"y":-2,"radius":0.5}."""
-        with tool_errors():
-            params = params_of(
-                SearchParams,
-                bag=bag,
-                topic=topic,
-                condition=condition,
-                value=value,
-                field=field,
-                start=start,
-                end=end,
-                limit=limit,
-                correlate_topic=correlate_topic,
-                correlate_tolerance_s=correlate_tolerance_s,
-            )
-        return await self._work.run(
-            ctx,
-            SEARCH,
-            params,
-            _search_summary,
-            inline=lambda p: search_if_small(self._access, p, budget_bytes=self._budget_bytes),
-        )
 
-    @tool(WRITES)
-    async def filter_bag(
-        self,
-        ctx: Context,
-        bag: BagRef,
-        name: Annotated[str | None, Field(description="name of the new bag")] = None,
-        include_topics: Annotated[list[str] | None, Field(description="keep only these")] = None,
-        exclude_topics: Annotated[list[str] | None, Field(description="drop these")] = None,
-        start: TimeArg | None = None,
-        end: TimeArg | None = None,
-        rates: Annotated[dict[str, float] | None, Field(description="max Hz per topic, e.g. {'/scan': 2}")] = None,
-        format: Annotated[Format | None, Field(description="default: the source's")] = None,
-    ) -> Annotated[CallToolResult, LongAnswer[FilterResult]]:
-        """A new bag from some topics, a time window and/or rate limits, stored under `name` (the same request
-        gives the same bag; needs the upload scope). Example: include_topics=["/cmd_vel", "/odom"]."""
-        with tool_errors():
-            params = params_of(
-                FilterParams,
-                bag=bag,
-                name=name,
-                include_topics=include_topics,
-                exclude_topics=exclude_topics,
-                start=start,
-                end=end,
-                rates=rates,
-                format=format,
-            )
-        return await self._work.run(ctx, FILTER, params, _filter_summary)
+def _filter(store: Store, params: FilterParams, progress: Progress) -> FilterResult:
+    return filter_bag(store.access, store.shelf, store.ingestor, params, progress)
+
+
+SEARCH = Declared(
+    "search_messages",
+    "Messages meeting a condition: count, first matches (max/min: where a field peaks), closest approach for "
+    'near_position. Example: topic=/odom, condition=near_position, value={"x":1,"y":-2,"radius":0.5}.',
+    SearchParams,
+    SearchResult,
+    _search,
+    _search_summary,
+    inline=lambda store, p: search_if_small(store.access, p, budget_bytes=store.budget_bytes),
+    job="search",
+)
+FILTER = Declared(
+    "filter_bag",
+    "A new bag from some topics, a time window and/or rate limits, stored under `name` (the same request gives "
+    'the same bag; needs the upload scope). Example: include_topics=["/cmd_vel", "/odom"].',
+    FilterParams,
+    FilterResult,
+    _filter,
+    _filter_summary,
+    annotations=WRITES,
+    job="filter",
+)

@@ -1,15 +1,24 @@
-"""The plotting service's MCP server: its tool class and stored plots as resources."""
+"""The plotting service's MCP server: its declared plot tools and stored plots as resources."""
 
 from __future__ import annotations
 
 from mcp.server.mcpserver import MCPServer
 from mcp.server.mcpserver.exceptions import ResourceNotFoundError
 
+from bagmcp_kit.declared import ServiceTools
 from bagmcp_kit.ingest_wait import IngestWait
 from bagmcp_kit.longwork import LongWork
 from bagmcp_kit.server import Guard, new_server
 from bagmcp_plotting.artifacts import ARTIFACT_URI, Artifacts
-from bagmcp_plotting.tools.plot_tools import PlotTools
+from bagmcp_plotting.job_kinds import RUN_JOB
+from bagmcp_plotting.tools.plot_tools import (
+    COMPARE_RUNS,
+    PLOT_2D,
+    PLOT_HISTOGRAM,
+    PLOT_LIDAR_SCAN,
+    PLOT_TIMESERIES,
+    Plotting,
+)
 from bagmcp_shared.access import BagAccess
 from bagmcp_shared.errors import ObjectNotFoundError
 
@@ -17,11 +26,14 @@ PURPOSE = (
     "Plots of robot bags as images you can see: time series, XY and trajectories, lidar scans, histograms, runs "
     "compared. A plot that becomes a job is stored when it succeeds: call the same tool again to see it."
 )
+PLOTTING = ServiceTools[Plotting](
+    "plotting", RUN_JOB, (PLOT_TIMESERIES, PLOT_2D, PLOT_LIDAR_SCAN, PLOT_HISTOGRAM, COMPARE_RUNS)
+)
 
 
 def build_server(access: BagAccess, work: LongWork, artifacts: Artifacts, *, guard: Guard | None = None) -> MCPServer:
     ingest = IngestWait(access.catalog, work.budget_s)
-    tools = [PlotTools(access, work, artifacts)]
+    tools = PLOTTING.specs(Plotting.of(access, artifacts), work)
     server = new_server("bagmcp-plotting", purpose=PURPOSE, tools=tools, guard=guard, ingest=ingest)
     _artifact_resource(server, artifacts)
     return server

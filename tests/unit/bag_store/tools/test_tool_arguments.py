@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from typing import get_args
 
-from bagmcp_bag_store.tools.search_tools import Format
+from bagmcp_bag_store.filtering import Format
 from bagmcp_shared.bags.writer_storage import OutputFormat
 
 

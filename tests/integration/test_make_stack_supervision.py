@@ -1,0 +1,68 @@
+"""`make stack` never runs unsupervised: closing the terminal (SIGHUP) or killing the supervisor stops every
+process of the stack, and a new start over a directory whose old processes still run says so and stops them,
+then starts on the same ports. Before, all processes kept running and the next start crash-looped on their
+bound ports for about 90 s."""
+
+from __future__ import annotations
+
+import contextlib
+import os
+import re
+import signal
+from collections.abc import Iterator
+from pathlib import Path
+
+import pytest
+
+from tests.fixtures.make_stack import MakeStack, processes_of
+from tests.fixtures.processes import wait_until
+
+pytestmark = pytest.mark.integration
+
+
+@pytest.fixture
+def stack(tmp_path: Path) -> Iterator[MakeStack]:
+    stack = MakeStack(tmp_path / "supervised")
+    stack.start()
+    try:
+        yield stack
+    finally:
+        if stack.process is not None and stack.process.poll() is None:
+            stack.stop()
+        for pid in processes_of(stack.directory):  # a failed test leaves nothing running on the machine
+            with contextlib.suppress(ProcessLookupError):
+                os.killpg(os.getpgid(pid), signal.SIGKILL)
+
+
+def _supervisor_gone(stack: MakeStack, sig: signal.Signals) -> None:
+    assert stack.process is not None
+    os.kill(stack.process.pid, sig)
+    stack.process.wait(timeout=40)
+    stack.process = None
+
+
+def test_closing_the_terminal_stops_every_process(stack: MakeStack) -> None:
+    assert len(processes_of(stack.directory)) >= 11  # supervisor, watchdog, redis, weed, 3 services, 3 workers, ...
+    _supervisor_gone(stack, signal.SIGHUP)
+    wait_until(lambda: not processes_of(stack.directory), timeout_s=30, what="every stack process to stop")
+    assert "stopping every process: asked to (SIGHUP)" in stack.log.read_text()
+
+
+def test_a_killed_supervisor_takes_its_processes_with_it(stack: MakeStack) -> None:
+    _supervisor_gone(stack, signal.SIGKILL)
+    wait_until(lambda: not processes_of(stack.directory), timeout_s=30, what="the watchdog to stop every process")
+    log = stack.log.read_text()
+    assert f"processes of the stack whose supervisor ended in {stack.directory} still run" in log
+
+
+def test_a_start_over_left_processes_stops_them_and_keeps_its_ports(stack: MakeStack) -> None:
+    ports = stack.ports()
+    watchdog = int(re.findall(r"started watchdog \(pid (\d+)\)", stack.log.read_text())[-1])
+    os.kill(watchdog, signal.SIGKILL)  # as if both went at once: nothing stops the stack's processes now
+    _supervisor_gone(stack, signal.SIGKILL)
+    left = processes_of(stack.directory)
+    assert len(left) >= 9
+    stack.start()
+    assert f"processes of an earlier stack in {stack.directory} still run" in stack.log.read_text()
+    assert not set(left) & set(processes_of(stack.directory))
+    assert stack.ports() == ports
