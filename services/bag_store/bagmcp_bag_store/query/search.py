@@ -122,12 +122,6 @@ def search_messages(
         return _run(PreparedSearch.of(ob, req), progress, budget_bytes=budget_bytes, use_index=use_index)
 
 
-def is_small(access: BagAccess, req: SearchParams) -> bool:
-    """Whether the search answers quickly: from the index, or over few messages (checks the request too)."""
-    with access.open(req.bag) as ob:
-        return PreparedSearch.of(ob, req).small
-
-
 def search_if_small(access: BagAccess, req: SearchParams, *, budget_bytes: int) -> SearchResult | None:
     """The search done now when it is small, else None (for a job): the estimate and the search share one
     opening of the bag and one parse of the request."""
