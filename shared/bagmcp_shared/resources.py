@@ -15,7 +15,7 @@ from pathlib import Path
 
 import redis
 
-from bagmcp_shared.access import BagAccess, BagFiles, CachedBagFiles, FolderBagFiles, IndexPublisher, ReaderCache
+from bagmcp_shared.access import BagAccess, BagFiles, FolderBagFiles, IndexPublisher, RangedBagFiles, ReaderCache
 from bagmcp_shared.catalog import Catalog, MemoryCatalog, RedisCatalog
 from bagmcp_shared.errors import StorageError
 from bagmcp_shared.jobs import JobStore, MemoryJobStore, RedisJobStore
@@ -124,7 +124,7 @@ def team_resources(settings: TeamSettings, *, queue: str) -> Resources:
     store = s3_store(settings.s3)
     client = redis_client(settings.redis_url)
     wait_for_redis(client)
-    files = CachedBagFiles(store, settings.cache_dir, max_bytes=settings.cache_max_bytes)
+    files = RangedBagFiles(store, settings.cache_dir, max_bytes=settings.cache_max_bytes, reads=settings.range_reads)
     catalog = RedisCatalog(client)
     app = create_celery(settings.redis_url, queue=queue, visibility_timeout_s=settings.task_visibility_timeout_s)
     return Resources(

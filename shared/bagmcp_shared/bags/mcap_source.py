@@ -79,11 +79,14 @@ def _connection(channel: Channel, schema: Schema | None, count: int) -> Connecti
 
 
 class McapSource:
-    """One MCAP file."""
+    """One MCAP file: a local ``path``, or a seekable ``stream`` of ``size`` bytes named ``path``."""
 
-    def __init__(self, path: Path, *, recover_truncated: bool = False) -> None:
+    def __init__(
+        self, path: Path, *, recover_truncated: bool = False, stream: BinaryIO | None = None, size: int = 0
+    ) -> None:
         self._path = path
-        self._file: BinaryIO = path.open("rb")
+        self._file: BinaryIO = stream if stream is not None else path.open("rb")
+        self._size = size if stream is not None else 0
         self._notes: list[str] = []
         try:
             reader = SeekingReader(self._file)
@@ -148,7 +151,7 @@ class McapSource:
         return conns, {}
 
     def _from_scan(self, recover: bool) -> tuple[list[Connection], dict[int, tuple[int, int]], list[str]]:
-        found = scan(self._file, self._path.stat().st_size)
+        found = scan(self._file, self._file_size())
         cut = found.cut
         if cut is None:
             self._notes.append(
@@ -215,13 +218,16 @@ class McapSource:
     def _streamed(self, ids: Collection[int], start_ns: int | None, stop_ns: int | None) -> Iterator[RawMessage]:
         by_id = {c.id: c for c in self._connections if c.id in set(ids)}
         try:
-            for item in stream(self._file, self._path.stat().st_size):
+            for item in stream(self._file, self._file_size()):
                 if not isinstance(item, Message) or (conn := by_id.get(item.channel_id)) is None:
                     continue
                 if (start_ns is None or item.log_time >= start_ns) and (stop_ns is None or item.log_time < stop_ns):
                     yield RawMessage(conn, item.log_time, item.data)
         except RecordError:
             return  # the damage was reported (or accepted for recovery) when the file was opened
+
+    def _file_size(self) -> int:
+        return self._size or self._path.stat().st_size
 
     def close(self) -> None:
         self._file.close()

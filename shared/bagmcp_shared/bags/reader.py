@@ -9,7 +9,7 @@ from collections.abc import Iterable, Iterator, Sequence
 from contextlib import ExitStack, contextmanager
 from pathlib import Path
 from types import TracebackType
-from typing import Self
+from typing import BinaryIO, Self
 
 from bagmcp_shared.bags.decoding import Decoder
 from bagmcp_shared.bags.detect import sniff_file
@@ -76,8 +76,10 @@ class BagReader:
         stack: ExitStack,
         *,
         workspace: Path | None = None,
+        size_bytes: int | None = None,
     ) -> None:
         self.path = path
+        self._size_bytes = size_bytes
         self._workspace = workspace
         self.format = fmt
         self.files = tuple(files)
@@ -125,7 +127,7 @@ class BagReader:
         return BagSummary(
             path=str(self.path),
             format=self.format,
-            size_bytes=_size(self.path, self.files),
+            size_bytes=self._size_bytes if self._size_bytes is not None else _size(self.path, self.files),
             files=tuple(f.name for f in self.files),
             topics=tuple(sorted(topics.values(), key=lambda t: t.name)),
             profile=profile if isinstance(profile, str) else "",
@@ -223,3 +225,18 @@ def open_bag(path: str | os.PathLike[str], *, recover_truncated: bool = False) -
         stack.close()
         raise
     return BagReader(bag_path, source, fmt, files, stack, workspace=workspace)
+
+
+def open_mcap_stream(name: Path, stream: BinaryIO, *, size: int) -> BagReader:
+    """Open an MCAP file read through a seekable ``stream`` of ``size`` bytes (team mode reads bags where
+    they are stored, by byte ranges); ``name`` stands for the file in messages. Closing the reader closes
+    the stream."""
+    stack = ExitStack()
+    stack.callback(stream.close)
+    try:
+        with damage_named(name):
+            source = McapSource(name, stream=stream, size=size)
+    except BaseException:
+        stack.close()
+        raise
+    return BagReader(name, source, BagFormat.MCAP, [name], stack, size_bytes=size)
