@@ -15,6 +15,8 @@ from pathlib import Path
 
 import pytest
 from mcap.writer import CompressionType, Writer
+from rosbags.rosbag1 import Writer as Ros1Writer
+from rosbags.typesys import Stores, get_typestore
 
 from bagmcp_bag_store.ingest.content import content_id
 from bagmcp_bag_store.ingest.ingest import Ingestor
@@ -60,9 +62,41 @@ def write_padded_mcap(path: Path, *, seed: int = 21) -> Path:
     return path
 
 
+def write_padded_ros1(path: Path, compression: str, *, seed: int = 21) -> Path:
+    """The same poses as std_msgs/String in a ROS 1 bag of 64 KiB chunks (plain, bz2 or lz4)."""
+    rng = random.Random(seed)
+    store = get_typestore(Stores.ROS1_NOETIC)
+    string = store.types["std_msgs/msg/String"]
+    writer = Ros1Writer(path)
+    if compression != "none":
+        writer.set_compression(Ros1Writer.CompressionFormat[compression.upper()])
+    writer.chunk_threshold = 64 * 1024
+    with writer:
+        pose = writer.add_connection("/pose", "std_msgs/msg/String", typestore=store)
+        status = writer.add_connection("/status", "std_msgs/msg/String", typestore=store)
+        for i in range(COUNT):
+            t = START_NS + i * PERIOD_NS
+            body = json.dumps({"seq": i, "x": i / 100, "pad": rng.randbytes(512).hex()})
+            writer.write(pose, t, store.serialize_ros1(string(data=body), "std_msgs/msg/String"))
+            if i % 10 == 0:
+                status_body = json.dumps({"seq": i, "mode": "auto"})
+                writer.write(status, t, store.serialize_ros1(string(data=status_body), "std_msgs/msg/String"))
+    return path
+
+
 @pytest.fixture(scope="module")
 def local_mcap(tmp_path_factory: pytest.TempPathFactory) -> Path:
     return write_padded_mcap(tmp_path_factory.mktemp("ranged") / "padded.mcap")
+
+
+@pytest.fixture(scope="module", params=["mcap", "ros1-none", "ros1-bz2", "ros1-lz4"])
+def local_bag(request: pytest.FixtureRequest, tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """The padded bag as a bare MCAP and as ROS 1 bags of each chunk compression."""
+    if request.param == "mcap":
+        path: Path = request.getfixturevalue("local_mcap")
+        return path
+    compression = str(request.param).removeprefix("ros1-")
+    return write_padded_ros1(tmp_path_factory.mktemp("ranged") / f"padded-{compression}.bag", compression)
 
 
 def s3_of(endpoint: S3Endpoint, bucket: str) -> S3Store:
@@ -106,35 +140,35 @@ def local_answers(path: Path) -> Answer:
     return found + [by_time[START_NS + i * PERIOD_NS] for i in (0, 777, 1500, 2222, COUNT - 1)]
 
 
-def test_mcap_answers_by_range_equal_the_local_file_and_a_point_read_fetches_a_few_chunks(
-    store: S3Store, local_mcap: Path, tmp_path: Path
+def test_answers_by_range_equal_the_local_file_and_a_point_read_fetches_a_few_chunks(
+    store: S3Store, local_bag: Path, tmp_path: Path
 ) -> None:
     catalog = MemoryCatalog()
-    record = shelve(store, catalog, local_mcap, tmp_path)
+    record = shelve(store, catalog, local_bag, tmp_path)
     files = RangedBagFiles(store, tmp_path / "service-cache", max_bytes=1 << 30, reads=ROOMY)
     access = BagAccess(catalog, files)
     with access.open("padded") as bag:
         near = bag.nearest("/pose", START_NS + 1234 * PERIOD_NS)
-    assert json.loads(near.data)["seq"] == 1234
+    assert near.log_time_ns == START_NS + 1234 * PERIOD_NS
     point = files.blocks.counters.fetched_bytes
     assert point < record.size_bytes / 4, f"a point read fetched {point} of {record.size_bytes} bytes"
-    assert answers(access, record.id) == local_answers(local_mcap)
+    assert answers(access, record.id) == local_answers(local_bag)
     assert not (tmp_path / "service-cache" / record.id).exists()  # no whole copy in the service's cache
     fetched = files.blocks.counters.fetched_bytes
-    assert answers(access, record.id) == local_answers(local_mcap)  # warm: every block from disk
+    assert answers(access, record.id) == local_answers(local_bag)  # warm: every block from disk
     assert files.blocks.counters.fetched_bytes == fetched
     assert files.blocks.counters.hits > 0
 
 
 def test_a_bag_many_times_larger_than_the_cache_answers_right_and_the_cache_keeps_its_bound(
-    store: S3Store, local_mcap: Path, tmp_path: Path
+    store: S3Store, local_bag: Path, tmp_path: Path
 ) -> None:
     catalog = MemoryCatalog()
-    record = shelve(store, catalog, local_mcap, tmp_path)
-    assert record.size_bytes > 10 * SMALL.cache_bytes
+    record = shelve(store, catalog, local_bag, tmp_path)
+    assert record.size_bytes > 4 * SMALL.cache_bytes
     files = RangedBagFiles(store, tmp_path / "small-cache", max_bytes=1 << 30, reads=SMALL)
     access = BagAccess(catalog, files)
-    expected = local_answers(local_mcap)
+    expected = local_answers(local_bag)
     for _ in range(2):
         assert answers(access, record.id) == expected
         assert files.blocks.used_bytes() <= SMALL.cache_bytes
