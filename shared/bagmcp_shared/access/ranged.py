@@ -10,6 +10,7 @@ be the catalog's), and must hold every byte asked for; anything else is an error
 
 from __future__ import annotations
 
+import bisect
 import io
 import time
 from dataclasses import dataclass
@@ -91,6 +92,13 @@ class RangedFile(io.BufferedIOBase):
         self._streak = 0  # reads in a row that continued the one before
         self._mem_index = -1
         self._mem = b""
+        self._records: list[tuple[int, int]] = []  # (start, stop) of records a reader reads whole
+
+    def hint_records(self, spans: list[tuple[int, int]]) -> None:
+        """Tell the file the byte spans of records that are read whole (a bag's chunks, from its index):
+        a miss inside one then fetches the rest of it in the same request (a chunk's header and body are
+        two reads; without the hint they cost two requests)."""
+        self._records = sorted(spans)
 
     def readable(self) -> bool:
         return True
@@ -131,11 +139,19 @@ class RangedFile(io.BufferedIOBase):
         first, last = start // self._block, (stop - 1) // self._block
         self._streak = self._streak + 1 if first in (self._next, self._next - 1) else 0
         ahead = min(last + self._ahead, self._count - 1) if self._streak >= STREAMING else last
+        ahead = max(ahead, min(self._record_end(start) // self._block, self._count - 1))
         self._next = last + 1
         parts = self._blocks_of(first, last, ahead)
         self._mem_index, self._mem = last, parts[-1]
         joined = parts[0] if len(parts) == 1 else b"".join(parts)
         return joined[start - first * self._block : stop - first * self._block]
+
+    def _record_end(self, offset: int) -> int:
+        """The last byte of the hinted record holding ``offset`` (``offset`` when none does)."""
+        at = bisect.bisect_right(self._records, (offset, 2**63)) - 1
+        if at >= 0 and self._records[at][0] <= offset < self._records[at][1]:
+            return self._records[at][1] - 1
+        return offset
 
     def _blocks_of(self, first: int, last: int, ahead: int) -> list[bytes]:
         """Blocks ``first`` .. ``last`` from memory, disk or one request per missing run (which also

@@ -96,6 +96,8 @@ class McapSource:
             raise DamagedBagError(f"{path}: not a readable MCAP file ({err or type(err).__name__})") from err
         self._summary = self._read_summary(reader)
         self._reader = reader
+        if self._summary is not None and (hint := getattr(self._file, "hint_records", None)) is not None:
+            hint([(c.chunk_start_offset, c.chunk_start_offset + c.chunk_length) for c in self._summary.chunk_indexes])
         if self._summary is not None:
             self._connections, self._bounds = self._from_summary(self._summary)
             chunks = [index.compression for index in self._summary.chunk_indexes]

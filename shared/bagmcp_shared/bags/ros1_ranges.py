@@ -85,6 +85,9 @@ class Ros1RangeSource:
                 f"{name}: the ROS 1 bag's index is damaged ({err}); `rosbag reindex` may repair it"
             ) from err
         self._by_id = {c.id: c for c in self._connections}
+        if (hint := getattr(stream, "hint_records", None)) is not None:  # a chunk ends where the next starts
+            starts = sorted(span.pos for span in self._chunks)
+            hint(list(zip(starts, [*starts[1:], self._index_pos], strict=True)))
         self._bounds: dict[int, tuple[int, int] | None] = {}
         self._compression: Compression | None = None
 
@@ -93,6 +96,7 @@ class Ros1RangeSource:
             raise ReaderError("not a ROS 1 bag of format 2.0")
         header = Header.read(self._stream, RecordType.BAGHEADER)
         index_pos, chunk_count = header.get_uint64("index_pos"), header.get_uint32("chunk_count")
+        self._index_pos = index_pos
         if index_pos == 0:
             raise ReaderError("the bag is not indexed")
         if chunk_count == 0:
