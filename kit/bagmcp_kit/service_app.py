@@ -11,6 +11,7 @@ from contextlib import AbstractAsyncContextManager
 
 import uvicorn
 from fastapi import APIRouter, Depends, FastAPI, Request
+from fastapi.responses import PlainTextResponse
 from mcp.server.mcpserver import MCPServer
 from mcp.server.transport_security import TransportSecuritySettings
 
@@ -63,8 +64,10 @@ def create_service_app(
     allowed_hosts: Sequence[str],
     statuses: StatusTable = (),
     on_shutdown: Callable[[], None] | None = None,
+    metrics: Callable[[], dict[str, int]] | None = None,
 ) -> FastAPI:
-    """The service as an ASGI app. With ``service_token`` both MCP and REST require it."""
+    """The service as an ASGI app. With ``service_token`` both MCP and REST require it, and /metrics (the
+    counters ``metrics`` gives, in Prometheus' text format) too."""
     security = HOST_CHECK_IN_MIDDLEWARE
     mcp_app = server.streamable_http_app(streamable_http_path="/mcp", transport_security=security)
 
@@ -83,8 +86,19 @@ def create_service_app(
         allowed_hosts=allowed_hosts,
         statuses=statuses,
     )
+    if metrics is not None:
+        add_metrics_route(app, metrics, rest_guard(service_token))
     app.mount("/", UniformErrors(mcp_app))
     return app
+
+
+def add_metrics_route(app: FastAPI, metrics: Callable[[], dict[str, int]], guard: Guard) -> None:
+    """GET /metrics behind ``guard``: every counter as ``# TYPE name counter`` and ``name value``."""
+
+    @app.get("/metrics", dependencies=[Depends(guard)])
+    def exposition() -> PlainTextResponse:
+        lines = [line for name, value in metrics().items() for line in (f"# TYPE {name} counter", f"{name} {value}")]
+        return PlainTextResponse("\n".join(lines) + "\n", media_type="text/plain; version=0.0.4")
 
 
 def serve(

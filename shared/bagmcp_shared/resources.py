@@ -45,6 +45,11 @@ class Resources:
     max_result_bytes: int = 16_000
     job_budget_s: float = 20.0
 
+    def metrics(self) -> dict[str, int]:
+        """This process's counters for /metrics: block cache hits and misses and bytes fetched from S3
+        (none when bags are read from a folder)."""
+        return self.files.blocks.counters.snapshot() if isinstance(self.files, RangedBagFiles) else {}
+
 
 @dataclass(frozen=True)
 class Embedded:

@@ -5,12 +5,13 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import httpx
 import pytest
 from mcp.client.client import Client
 
 from tests.fixtures.inprocess import copy_bags, in_process
 from tests.fixtures.mcp_client import JsonObject, call, http_client
-from tests.integration.stack import TOKEN, Stack
+from tests.integration.stack import SERVICE_TOKEN, TOKEN, Stack
 from tests.integration.test_range_reads import write_padded_mcap, write_padded_ros1
 
 pytestmark = pytest.mark.anyio
@@ -44,3 +45,9 @@ async def test_mcap_and_ros1_answers_by_range_equal_the_embedded_servers(stack: 
     for bag in uploaded:
         assert not (cache / str(bag["id"])).exists()  # no whole copy in the service that answered
     assert any((cache / ".blocks" / "blocks").iterdir())
+    metrics = httpx.get(f"{stack.bag_store_url}/metrics", headers={"Authorization": f"Bearer {SERVICE_TOKEN}"})
+    counters = dict(line.split() for line in metrics.text.splitlines() if not line.startswith("#"))
+    assert int(counters["bagmcp_s3_fetched_bytes_total"]) > 0
+    assert int(counters["bagmcp_block_cache_misses_total"]) > 0
+    assert int(counters["bagmcp_block_cache_hits_total"]) > 0
+    assert httpx.get(f"{stack.bag_store_url}/metrics").status_code == 401

@@ -30,4 +30,5 @@ def create_app(settings: BagStoreSettings) -> FastAPI:
         service_token=service.team.service_token,
         allowed_hosts=service.http.allowed_hosts,
         statuses=STATUSES,
+        metrics=resources.metrics,
     )

@@ -37,6 +37,16 @@ class BlockCounters:
     evicted_blocks: int = 0
     _lock: threading.Lock = field(default_factory=threading.Lock, repr=False, compare=False)
 
+    def snapshot(self) -> dict[str, int]:
+        """The counters as Prometheus names (each a counter since the process started)."""
+        with self._lock:
+            return {
+                "bagmcp_block_cache_hits_total": self.hits,
+                "bagmcp_block_cache_misses_total": self.misses,
+                "bagmcp_s3_fetched_bytes_total": self.fetched_bytes,
+                "bagmcp_block_cache_evicted_blocks_total": self.evicted_blocks,
+            }
+
     def add(self, *, hits: int = 0, misses: int = 0, fetched_bytes: int = 0, evicted: int = 0) -> None:
         with self._lock:
             self.hits += hits
