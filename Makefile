@@ -45,8 +45,8 @@ lint: install
 typecheck: install
 	$(VENV)/bin/mypy
 
-pytest: install browser
-	$(PY) -m pytest $(PYTEST_ARGS)
+pytest: install browser  ## every test on two processes, a file per process at a time (its servers start once)
+	$(PY) -m pytest -n 2 --dist loadfile $(PYTEST_ARGS)
 
 unit: install  ## the tests that start no server, on two processes (pytest-xdist): about 25 s
 	$(PY) -m pytest -m 'not integration' -n 2 $(PYTEST_ARGS)

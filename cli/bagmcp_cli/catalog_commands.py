@@ -5,6 +5,11 @@ from __future__ import annotations
 
 import argparse
 
+NOT_RESTORED = (
+    "API tokens and jobs lived only in Redis and are not rebuilt: make the tokens again (bagmcp token create) "
+    "and run lost jobs' tools again"
+)
+
 
 def rebuild(_args: argparse.Namespace) -> int:
     from bagmcp_bag_store.ingest.rebuild import rebuild_catalog  # the bag-store's code: 10 s to import on a busy
@@ -21,6 +26,7 @@ def rebuild(_args: argparse.Namespace) -> int:
     print(rebuilt)
     for note in rebuilt.skipped:
         print(f"  skipped {note}")
+    print(NOT_RESTORED)
     return 0
 
 
@@ -28,6 +34,8 @@ def add_catalog_commands(commands: argparse._SubParsersAction[argparse.ArgumentP
     catalog = commands.add_parser("catalog", help="maintain the team catalog")
     actions = catalog.add_subparsers(dest="action", required=True)
     again = actions.add_parser(
-        "rebuild", help="list again every bag stored in S3 that the catalog lacks (settings from BAGMCP_*)"
+        "rebuild",
+        help="list again every bag stored in S3 that the catalog lacks (settings from BAGMCP_*)",
+        description=f"List again every bag stored in S3 that the catalog lacks. {NOT_RESTORED}.",
     )
     again.set_defaults(handler=rebuild)

@@ -20,7 +20,7 @@ from mcp.types import RequestParamsMeta
 from bagmcp_gateway.answers import WireResult, cap_answer, error_result, is_error, text_characters
 from bagmcp_gateway.audit import AuditRecord
 from bagmcp_gateway.catalog import ToolRoute
-from bagmcp_gateway.gateway import Gateway, who
+from bagmcp_gateway.gateway import Gateway, owner_of, who
 from bagmcp_gateway.ratelimit import retry_after_s
 from bagmcp_gateway.resource_routes import with_exposed_links
 from bagmcp_kit.identity import owner_meta
@@ -39,7 +39,7 @@ async def _forward(
     async def relay_progress(progress: float, total: float | None, message: str | None) -> None:
         await ctx.session.report_progress(progress, total, message)
 
-    meta = owner_meta(who(caller), tools=gateway.policy.callable_names(gateway.catalog.tools, caller))
+    meta = owner_meta(owner_of(caller), tools=gateway.policy.callable_names(gateway.catalog.tools, caller))
     if client_supports_apps(ctx):  # the service adds the data to draw only for callers that draw it
         meta = cast(RequestParamsMeta, asking_for_views(dict(meta)))
     with anyio.fail_after(route.upstream.call_timeout_s):
@@ -82,7 +82,7 @@ async def _checked_call(
     if not gateway.policy.allows(route.tool, caller):
         record.outcome = "denied"
         return error_result(gateway.policy.refusal(route.tool, caller))
-    if gateway.limiter is not None and (wait := await gateway.limiter.take(who(caller))):
+    if gateway.limiter is not None and (wait := await gateway.limiter.take(owner_of(caller))):
         record.outcome = "rate_limited"
         after = retry_after_s(wait)
         return error_result(f"rate limit reached for this token; retry after {after} s", retryAfterSeconds=after)

@@ -39,5 +39,15 @@ class Gateway:
 
 
 def who(caller: AccessToken | None) -> str:
-    """The caller's name as services and audit records know it."""
+    """The caller's name as audit records show it (the token's name, a JWT's subject)."""
     return caller.client_id if caller is not None else LOCAL_CALLER
+
+
+def owner_of(caller: AccessToken | None) -> str:
+    """Who owns the caller's jobs and rate-limit bucket, namespaced by kind (``token:alice``,
+    ``static:<name>``, ``jwt:<issuer>:<sub>``; ``local`` without a token), so two kinds of identity that
+    share a name never share jobs."""
+    if caller is None:
+        return LOCAL_CALLER
+    owner = (caller.claims or {}).get("owner")
+    return str(owner) if owner else f"token:{caller.client_id}"

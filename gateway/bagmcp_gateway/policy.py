@@ -4,7 +4,10 @@ decisions are pure functions of names and lists, so they are remembered (a call 
 
 Resources follow the tools: an upstream's resources are readable (and listed) for a caller holding the
 ``read`` scope that may call at least one of that upstream's tools. A token that may not call any plotting
-tool cannot read plot artifacts either."""
+tool cannot read plot artifacts either (REST reads follow the same rule: rest_policy.py).
+
+A profile name this server does not know (a replica configured without it, a JWT claim with a typo) grants no
+tool at all, and a call is refused saying so."""
 
 from __future__ import annotations
 
@@ -18,7 +21,7 @@ import mcp.types as types
 from mcp.server.auth.provider import AccessToken
 
 from bagmcp_gateway.lean import lean_tools
-from bagmcp_gateway.profiles import DEFAULT_PROFILES, Profile
+from bagmcp_gateway.profiles import DEFAULT_PROFILES, NO_TOOLS, Profile
 from bagmcp_gateway.tokens.models import SCOPES
 
 
@@ -52,8 +55,14 @@ class ToolPolicy:
     profiles: Mapping[str, Profile] = field(default_factory=lambda: dict(DEFAULT_PROFILES))
 
     def profile_of(self, caller: AccessToken | None) -> Profile | None:
+        """The caller's profile; None when it names none (every enabled tool); NO_TOOLS for an unknown one."""
         name = (caller.claims or {}).get("profile") if caller is not None else None
-        return self.profiles.get(str(name)) if name else None
+        return self.profiles.get(str(name), NO_TOOLS) if name else None
+
+    def unknown_profile(self, caller: AccessToken | None) -> str | None:
+        """The profile name ``caller`` carries that this server does not know, or None."""
+        name = (caller.claims or {}).get("profile") if caller is not None else None
+        return str(name)[:64] if name and str(name) not in self.profiles else None
 
     def allows(self, tool: types.Tool, caller: AccessToken | None) -> bool:
         """Whether ``caller`` (None: no authentication, a local user) may see and call ``tool``."""
@@ -70,6 +79,12 @@ class ToolPolicy:
 
     def refusal(self, tool: types.Tool, caller: AccessToken | None) -> str:
         """Why ``caller`` may not call ``tool``, saying what to do when a scope is all it lacks."""
+        if (unknown := self.unknown_profile(caller)) is not None:
+            return (
+                f"this token's tool profile {unknown!r} is not one this server knows "
+                f"({', '.join(sorted(self.profiles))}), so it may call no tool; ask an admin for a token with a "
+                "known profile"
+            )
         scope = needed_scope(tool)
         if caller is not None and scope not in caller.scopes:
             widened = caller.model_copy(update={"scopes": [*caller.scopes, scope]})

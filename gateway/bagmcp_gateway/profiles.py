@@ -32,7 +32,8 @@ class Profile:
     lean: bool = False
 
 
+NO_TOOLS = Profile(())  # what a profile name this server does not know grants: nothing (a typo is not "full")
 DEFAULT_PROFILES: Mapping[str, Profile] = {"full": Profile(("*",)), "core": Profile(CORE_TOOLS, lean=True)}
 PROFILE_NAMES = tuple(DEFAULT_PROFILES)
 
-__all__ = ["CORE_TOOLS", "DEFAULT_PROFILES", "PROFILE_NAMES", "Profile"]
+__all__ = ["CORE_TOOLS", "DEFAULT_PROFILES", "NO_TOOLS", "PROFILE_NAMES", "Profile"]

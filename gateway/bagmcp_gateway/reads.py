@@ -15,7 +15,7 @@ from mcp.server.auth.provider import AccessToken
 
 from bagmcp_gateway.answers import WireResult
 from bagmcp_gateway.audit import AuditRecord
-from bagmcp_gateway.gateway import Gateway, who
+from bagmcp_gateway.gateway import Gateway, owner_of, who
 from bagmcp_gateway.ratelimit import retry_after_s
 from bagmcp_gateway.resource_routes import with_exposed_contents
 from bagmcp_gateway.upstreams import Upstream
@@ -81,11 +81,11 @@ async def _checked_read(gateway: Gateway, uri: str, caller: AccessToken | None, 
             "scope and one of its tools enabled for the token",
             uri,
         )
-    if gateway.limiter is not None and (wait := await gateway.limiter.take(who(caller))):
+    if gateway.limiter is not None and (wait := await gateway.limiter.take(owner_of(caller))):
         record.outcome = "rate_limited"
         raise _refused(REQUEST_LIMITED, f"rate limit reached for this token; retry after {retry_after_s(wait)} s", uri)
     try:
-        result = await _fetch(gateway, upstream, route.uri, who(caller))
+        result = await _fetch(gateway, upstream, route.uri, owner_of(caller))
     except MCPError:  # the service answered (an unknown id, say): its message tells the caller what to do
         record.outcome = "error"
         raise

@@ -6,6 +6,7 @@ from __future__ import annotations
 import base64
 import io
 import math
+from collections.abc import Awaitable, Callable
 from dataclasses import dataclass
 from typing import Any
 
@@ -29,6 +30,7 @@ class Agent:
 
     client: Client
     calls: int = 0
+    settle: Callable[[str], Awaitable[None]] | None = None  # waits, outside MCP, until a job has ended
 
     async def ask(self, tool: str, **arguments: object) -> tuple[Answer, CallToolResult]:
         self.calls += 1
@@ -38,6 +40,8 @@ class Agent:
         content: Answer = answer.structured_content
         if "job" in content:  # a long answer: one get_job when the budget ran out
             self.calls += 1
+            if self.settle is not None:
+                await self.settle(content["job"]["job_id"])
             job = await self.client.call_tool("get_job", {"job_id": content["job"]["job_id"]})
             assert isinstance(job.structured_content, dict)
             assert job.structured_content["state"] == "succeeded", job.structured_content
@@ -154,8 +158,10 @@ async def cut_and_peak(agent: Agent, bag: str) -> None:
     agent.task_done()
 
 
-async def check_paper_tasks(client: Client, bag: str, names: list[str]) -> None:
-    agent = Agent(client)
+async def check_paper_tasks(
+    client: Client, bag: str, names: list[str], *, settle: Callable[[str], Awaitable[None]] | None = None
+) -> None:
+    agent = Agent(client, settle=settle)
     await bags_and_plots(agent, bag, names)
     await motion_and_places(agent, bag)
     await lidar_and_frames(agent, bag)

@@ -14,8 +14,10 @@ from typing import Any
 
 import anyio
 import httpx
+import redis
 from minio import Minio
 
+from bagmcp_shared.jobs.store import RedisJobStore
 from tests.fixtures.mcp_client import call, http_client
 from tests.fixtures.processes import BIN, http_ok, scratch_leftovers, service
 from tests.fixtures.servers import S3Endpoint, free_port, free_ports
@@ -98,6 +100,15 @@ class Stack:
     def objects(self) -> list[str]:
         client = Minio(self.s3.endpoint, access_key=self.s3.access_key, secret_key=self.s3.secret_key, secure=False)
         return sorted(str(o.object_name) for o in client.list_objects(self.bucket, recursive=True))
+
+    async def job_ended(self, job_id: str, *, timeout_s: float = 120) -> None:
+        """Wait, reading the job store itself (no MCP call), until a job has ended: an agent that waits
+        before its one ``get_job``. The stack's job budget is 1 s so that tests take the job path; on a
+        loaded machine a job can still be running when a single ``get_job`` follows at once."""
+        store = RedisJobStore(redis.Redis.from_url(self.redis_url))
+        with anyio.fail_after(timeout_s):
+            while not ((job := store.get(job_id)) is not None and job.ended):
+                await anyio.sleep(0.1)
 
     async def wait_ready(self, names: list[str], *, timeout_s: float = 120) -> None:
         async with http_client(f"{self.url}/mcp", TOKEN) as client:

@@ -20,7 +20,7 @@ from tests.checks.search_checks import finished
 from tests.fixtures.bagfactory import BagKind
 from tests.fixtures.drive_bags import write_drive_bags
 from tests.fixtures.inprocess import copy_bags
-from tests.fixtures.mcp_client import call, http_client, text_of
+from tests.fixtures.mcp_client import call, http_client, ingested_bags, text_of
 from tests.fixtures.processes import BIN, http_ok, service
 from tests.fixtures.servers import free_port
 from tests.integration.conftest import POSES_TF_MESSAGES
@@ -57,9 +57,7 @@ def stack_drive(stack: Stack, drive_bags: dict[BagKind, Path]) -> list[str]:
 
 async def _ready(url: str) -> None:
     async with http_client(f"{url}/mcp", None) as client:
-        with anyio.fail_after(120):
-            while any(b["status"] == "ingesting" for b in (await call(client, "list_bags"))["bags"]):
-                await anyio.sleep(0.2)
+        await ingested_bags(client)
 
 
 async def test_analysis_answers_on_three_formats_through_the_embedded_server(served: str) -> None:
@@ -84,7 +82,7 @@ async def test_the_papers_ten_tasks_take_two_calls_each_through_the_embedded_ser
 
 async def test_the_papers_ten_tasks_take_two_calls_each_through_the_stack(stack: Stack, stack_drive: list[str]) -> None:
     async with http_client(f"{stack.url}/mcp", TOKEN) as client:
-        await check_paper_tasks(client, stack_drive[-1], stack_drive)
+        await check_paper_tasks(client, stack_drive[-1], stack_drive, settle=stack.job_ended)
 
 
 async def test_the_core_profile_answers_the_papers_ten_tasks(stack: Stack, stack_drive: list[str]) -> None:
@@ -93,7 +91,7 @@ async def test_the_core_profile_answers_the_papers_ten_tasks(stack: Stack, stack
     async with http_client(f"{stack.url}/mcp", small) as client:
         listed = {t.name for t in (await client.list_tools()).tools}
         assert "describe_topic" not in listed  # still the small profile
-        await check_paper_tasks(client, stack_drive[0], stack_drive)
+        await check_paper_tasks(client, stack_drive[0], stack_drive, settle=stack.job_ended)
 
 
 async def test_analysis_answers_on_three_formats_through_the_stack(stack: Stack, stack_drive: list[str]) -> None:

@@ -14,7 +14,7 @@ from mcp import Client, StdioServerParameters
 from tests.checks.first_tools import check_first_tools
 from tests.fixtures import scenario as sc
 from tests.fixtures.bagfactory import BagKind
-from tests.fixtures.mcp_client import call, http_client
+from tests.fixtures.mcp_client import call, http_client, ingested_bags
 from tests.fixtures.processes import BIN, http_ok, service
 from tests.fixtures.servers import free_port
 
@@ -53,20 +53,9 @@ def served(bag_folder: Path, tmp_path_factory: pytest.TempPathFactory) -> Iterat
         yield url
 
 
-async def _wait_ready(client: Client, count: int) -> None:
-    with anyio.fail_after(60):
-        while True:
-            listing = await call(client, "list_bags")
-            bags = listing["bags"]
-            assert isinstance(bags, list)
-            if len(bags) >= count and all(b["status"] != "ingesting" for b in bags):
-                return
-            await anyio.sleep(0.2)
-
-
 async def test_serve_over_http_answers_the_first_tools_for_three_formats(served: str) -> None:
     async with http_client(f"{served}/mcp", token=None) as client:
-        await _wait_ready(client, len(NAMES))
+        await ingested_bags(client, count=len(NAMES), timeout_s=60)
         await check_first_tools(client, NAMES)
 
 
@@ -75,7 +64,7 @@ async def test_stdio_answers_the_first_tools_for_three_formats(bag_folder: Path,
         command=str(BIN / "bagmcp"), args=["stdio", "--bags", str(bag_folder), "--data", str(tmp_path)]
     )
     async with Client(params, cache=None) as client:
-        await _wait_ready(client, len(NAMES))
+        await ingested_bags(client, count=len(NAMES), timeout_s=60)
         await check_first_tools(client, NAMES)
 
 

@@ -8,7 +8,6 @@ import math
 from pathlib import Path
 from typing import Any
 
-import anyio
 import pytest
 from mcp import Client
 
@@ -17,19 +16,10 @@ from bagmcp_cli.settings import EmbeddedSettings
 from bagmcp_gateway.aggregator import build_gateway_server
 from bagmcp_shared.index import RECORD_TYPES
 from tests.checks.fleet_checks import long, query
-from tests.fixtures.mcp_client import call
+from tests.fixtures.mcp_client import call, ingested_bags
 
 pytestmark = [pytest.mark.anyio, pytest.mark.corpus]
 LOG_TYPES = tuple(sorted(RECORD_TYPES))  # ROS logs and flight-log texts
-
-
-async def _ready(client: Client) -> list[dict[str, Any]]:
-    with anyio.fail_after(300):
-        while True:
-            bags: list[dict[str, Any]] = (await call(client, "list_bags", limit=500))["bags"]
-            if all(b["status"] != "ingesting" for b in bags):
-                return [b for b in bags if b["status"] == "ready"]
-            await anyio.sleep(0.3)
 
 
 async def _rows(client: Client, sql: str) -> list[list[Any]]:
@@ -77,7 +67,7 @@ async def test_answers_across_the_corpus_agree_with_the_per_bag_tools(corpus: Pa
     composition = compose(EmbeddedSettings(corpus, tmp_path / "data"))
     try:
         async with Client(build_gateway_server(composition.upstreams), cache=None) as client:
-            bags = await _ready(client)
+            bags = [b for b in await ingested_bags(client, timeout_s=300) if b["status"] == "ready"]
             assert len(bags) >= 10
             total = await query(client, "SELECT count(*) FROM bags")
             assert total["rows"][0][0] == len(bags)

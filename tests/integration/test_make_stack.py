@@ -226,4 +226,5 @@ def test_catalog_rebuild_with_the_stacks_settings_lists_lost_bags_again(stack_a:
     rebuilt = stack_a.command("bagmcp", "catalog", "rebuild")
     assert rebuilt.returncode == 0, rebuilt.stderr
     assert f"listed {len(before)} bags again ({len(before)} ready, 0 to ingest), skipped 0" in rebuilt.stdout
+    assert "API tokens and jobs lived only in Redis and are not rebuilt" in rebuilt.stdout
     assert stack_a.bags() == before

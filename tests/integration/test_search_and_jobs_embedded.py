@@ -7,9 +7,7 @@ from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
-import anyio
 import pytest
-from mcp import Client
 
 from bagmcp_bag_store.embedded import start_embedded
 from bagmcp_bag_store.filtering import filter_bag
@@ -25,7 +23,7 @@ from tests.checks.search_checks import (
 )
 from tests.fixtures import scenario as sc
 from tests.fixtures.bagfactory import BagKind, write_chatter_bag
-from tests.fixtures.mcp_client import call, http_client
+from tests.fixtures.mcp_client import call, http_client, ingested_bags
 from tests.fixtures.processes import BIN, http_ok, service, wait_until
 from tests.fixtures.servers import free_port
 from tests.integration.bag_downloads import download_info
@@ -59,27 +57,21 @@ def served(folder: Path, tmp_path_factory: pytest.TempPathFactory) -> Iterator[s
         yield f"{url}/mcp"
 
 
-async def _ready(client: Client) -> None:
-    with anyio.fail_after(120):
-        while any(b["status"] != "ready" for b in (await call(client, "list_bags"))["bags"]):
-            await anyio.sleep(0.2)
-
-
 async def test_search_answers_on_three_formats_through_the_embedded_server(served: str) -> None:
     async with http_client(served, None) as client:
-        await _ready(client)
+        await ingested_bags(client)
         await check_search(client, BAGS)
 
 
 async def test_a_slow_search_becomes_a_job_that_get_job_follows_with_progress(served: str) -> None:
     async with http_client(served, None) as client:
-        await _ready(client)
+        await ingested_bags(client)
         await check_slow_search_becomes_a_job_with_progress(client, "chatter")
 
 
 async def test_cancel_job_stops_a_running_search(served: str) -> None:
     async with http_client(served, None) as client:
-        await _ready(client)
+        await ingested_bags(client)
         await check_cancel_stops_a_running_job(client, "chatter")
 
 
@@ -123,7 +115,7 @@ async def test_filter_bag_on_the_embedded_server_stores_the_new_bag_outside_the_
 ) -> None:
     before = sorted(p.name for p in folder.iterdir())
     async with http_client(served, None) as client:
-        await _ready(client)
+        await ingested_bags(client)
         answer = await finished(
             client,
             await call(

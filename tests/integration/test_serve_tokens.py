@@ -1,5 +1,6 @@
 """`bagmcp token create|list|revoke --data DIR` on an embedded server's data directory, while `bagmcp serve`
-runs: tokens made and revoked then count without a restart; the in-memory rate limit of `bagmcp serve`."""
+runs: tokens made and revoked then count without a restart; the in-memory rate limit of `bagmcp serve`; REST
+reads under the token's profile and allow/deny lists; a profile the server does not know grants nothing."""
 
 from __future__ import annotations
 
@@ -11,7 +12,10 @@ import anyio
 import httpx
 import pytest
 
-from tests.fixtures.mcp_client import http_client
+from bagmcp_cli.token_actions import tokens_file
+from bagmcp_gateway.tokens.models import TokenRecord, token_hash
+from bagmcp_gateway.tokens.store import FileTokenStore
+from tests.fixtures.mcp_client import call_error, http_client
 from tests.fixtures.processes import BIN, http_ok, service, wait_until
 from tests.fixtures.servers import free_port
 from tests.integration.stack import bagmcp
@@ -85,3 +89,62 @@ async def test_serve_limits_each_token_s_call_rate_and_says_when_to_retry(served
             assert not (await other.call_tool("list_bags", {"limit": 1})).is_error
         await anyio.sleep(wait + 0.05)
         assert not (await client.call_tool("list_bags", {"limit": 1})).is_error
+
+
+def _rest(url: str, token: str, path: str) -> httpx.Response:
+    return httpx.get(f"{url}/api/v1/{path}", headers={"Authorization": f"Bearer {token}"}, timeout=10)
+
+
+async def test_rest_reads_obey_the_token_s_profile_and_allow_deny_lists(served: tuple[str, Path]) -> None:
+    """The same rule as MCP: a route is open when the token may call one of the tools that give its data."""
+    url, data = served
+    everything, info_only = _create(data, "everything"), _create(data, "info-only", "--allow", "bag_info")
+    no_plots = _create(data, "no-plots", "--deny", "plot_*", "--deny", "compare_runs")
+    artifact, query = "artifacts/0123456789abcdef01234567", "query?sql=select+1"
+    assert [_rest(url, everything, p).status_code for p in ("bags", "bags/nobag", artifact, query)] == [
+        200,
+        404,
+        404,
+        200,
+    ]
+    refused = {p: _rest(url, info_only, p) for p in ("bags", "bags/nobag/download", artifact, query)}
+    assert {p: r.status_code for p, r in refused.items()} == dict.fromkeys(refused, 403)
+    assert "needs one of the tools list_bags, find_bags, query_bags" in refused["bags"].json()["error"]["message"]
+    assert _rest(url, info_only, "bags/nobag").status_code == 404  # bag_info shows a bag's record: open, none here
+    plots = _rest(url, no_plots, artifact)
+    assert plots.status_code == 403
+    assert "needs one of the tools plot_*, compare_runs" in plots.json()["error"]["message"]
+    assert _rest(url, no_plots, "bags").status_code == 200
+
+
+async def test_a_profile_the_server_does_not_know_grants_nothing(served: tuple[str, Path]) -> None:
+    """As a replica sees a token made where another profile exists: no tool, no REST data, and a refusal
+    sentence that says why (a JWT's ``bagmcp_profile`` claim goes the same way)."""
+    url, data = served
+    secret = "bmcp_typo-profile-token-for-this-test"
+    FileTokenStore(tokens_file(data)).add(
+        TokenRecord(name="typo", hash=token_hash(secret), scopes=["read"], profile="typo")
+    )
+    async with http_client(f"{url}/mcp", secret) as client:
+        assert (await client.list_tools()).tools == []
+        refusal = await call_error(client, "list_bags")
+    assert "tool profile 'typo' is not one this server knows (core, full), so it may call no tool" in refusal
+    assert _rest(url, secret, "bags").status_code == 403
+    made = bagmcp("token", "create", "typo2", "--profile", "typo", "--data", str(data))
+    assert made.returncode == 1
+    assert "no tool profile 'typo'; profiles: core, full" in made.stderr
+
+
+def test_the_admin_api_refuses_bad_tokens_with_400_and_a_sentence(served: tuple[str, Path]) -> None:
+    url, _ = served
+    admin = {"Authorization": f"Bearer {ADMIN}"}
+    asked = [
+        ({"name": "far", "expires": "9" * 400 + "d"}, "is too long: at most 36500d"),
+        ({"name": "typo-api", "profile": "typo"}, "no tool profile 'typo'"),
+        ({"name": "local"}, "is the name of another kind of caller"),
+    ]
+    for body, sentence in asked:
+        answer = httpx.post(f"{url}/api/v1/tokens", json=body, headers=admin, timeout=10)
+        assert answer.status_code == 400, answer.text
+        assert sentence in answer.json()["error"]["message"]
+        assert len(answer.text) < 400

@@ -7,23 +7,20 @@ from __future__ import annotations
 import json
 import os
 import subprocess
-import threading
 import time
 from collections.abc import Iterator
-from http.server import BaseHTTPRequestHandler, ThreadingHTTPServer
 from pathlib import Path
 from typing import Any
 
 import anyio
 import httpx
-import jwt
 import pytest
 from cryptography.hazmat.primitives.asymmetric import rsa
-from jwt.algorithms import RSAAlgorithm
 from mcp import Client
 
 from bagmcp_gateway.profiles import CORE_TOOLS
 from tests.fixtures.bagfactory import BagKind
+from tests.fixtures.identity_provider import jwks_server, signed_jwt
 from tests.fixtures.mcp_client import call, call_error, http_client
 from tests.fixtures.processes import BIN, http_ok, service, wait_until
 from tests.fixtures.servers import free_port
@@ -31,6 +28,7 @@ from tests.integration.stack import TOKEN, Stack, bagmcp, gateway_env, new_token
 
 pytestmark = pytest.mark.anyio
 CORE = set(CORE_TOOLS)
+CORE_READ = CORE - {"filter_bag"}  # filter_bag creates a bag: it needs the upload scope, which readers lack
 
 
 async def tool_names(url: str, token: str) -> list[str]:
@@ -69,11 +67,13 @@ def test_scopes_gate_the_rest_routes_and_the_mcp_endpoint(stack: Stack) -> None:
     assert no_read.status_code == 403
 
 
-async def test_a_core_token_sees_ten_tools_in_under_6000_characters_and_is_refused_the_rest(stack: Stack) -> None:
+async def test_a_core_token_sees_the_core_tools_in_under_6000_characters_and_is_refused_the_rest(
+    stack: Stack,
+) -> None:
     core = new_token(stack, "small-model", "--profile", "core")
     async with http_client(f"{stack.url}/mcp", core) as client:
         tools = (await client.list_tools()).tools
-        assert {t.name for t in tools} == CORE
+        assert {t.name for t in tools} == CORE_READ
         listed = [t.model_dump(mode="json", by_alias=True, exclude_none=True) for t in tools]
         size = len(json.dumps({"tools": listed}, separators=(",", ":")))  # as on the wire
         assert size < 6000
@@ -95,6 +95,12 @@ async def test_allow_and_deny_globs_hide_tools_and_refuse_their_calls(stack: Sta
         assert "not enabled" in await call_error(client, "plot_2d", bag="x")
     reader = new_token(stack, "reader-tools", "--scopes", "read")
     assert "filter_bag" not in await tool_names(stack.url, reader)  # it creates bags: upload scope
+    artifact = f"{stack.url}/api/v1/artifacts/0123456789abcdef01234567"  # REST through the proxy: the same rule
+    assert httpx.get(artifact, headers={"Authorization": f"Bearer {no_plots}"}).status_code == 403
+    assert httpx.get(artifact, headers={"Authorization": f"Bearer {TOKEN}"}).status_code == 404
+    as_only_bags = {"Authorization": f"Bearer {only_bags}"}
+    assert httpx.get(f"{stack.url}/api/v1/bags", headers=as_only_bags).status_code == 200
+    assert httpx.get(f"{stack.url}/api/v1/bags/nothing/download", headers=as_only_bags).status_code == 403
 
 
 async def test_a_revoked_and_an_expired_token_are_refused(stack: Stack) -> None:
@@ -196,35 +202,13 @@ def test_a_tool_name_two_upstreams_publish_stops_the_gateway_at_start_naming_bot
     assert "published by bag-store and bag-store-copy" in started.stderr
 
 
-class _Jwks(BaseHTTPRequestHandler):
-    document = b"{}"
-
-    def do_GET(self) -> None:
-        self.send_response(200)
-        self.send_header("Content-Type", "application/json")
-        self.end_headers()
-        self.wfile.write(self.document)
-
-    def log_message(self, format: str, *args: Any) -> None:
-        return
-
-
 @pytest.fixture(scope="module")
 def identity_provider() -> Iterator[tuple[str, rsa.RSAPrivateKey]]:
-    """A JWKS endpoint with one RSA key, as a team's identity provider publishes it."""
-    key = rsa.generate_private_key(public_exponent=65537, key_size=2048)
-    jwk = json.loads(RSAAlgorithm.to_jwk(key.public_key()))
-    _Jwks.document = json.dumps({"keys": [{**jwk, "kid": "test-key", "use": "sig", "alg": "RS256"}]}).encode()
-    server = ThreadingHTTPServer(("127.0.0.1", 0), _Jwks)
-    thread = threading.Thread(target=server.serve_forever, daemon=True)
-    thread.start()
-    yield f"http://127.0.0.1:{server.server_address[1]}/jwks.json", key
-    server.shutdown()
+    with jwks_server() as provider:
+        yield provider
 
 
-def _jwt(key: rsa.RSAPrivateKey, **claims: object) -> str:
-    body = {"iss": "https://idp.test", "aud": "bagmcp", "sub": "alice", "scope": "read", "exp": int(time.time()) + 300}
-    return jwt.encode({**body, **claims}, key, algorithm="RS256", headers={"kid": "test-key"})
+_jwt = signed_jwt
 
 
 async def test_jwts_of_the_identity_provider_are_accepted_and_others_refused(
@@ -236,7 +220,7 @@ async def test_jwts_of_the_identity_provider_are_accepted_and_others_refused(
     with run_gateway(stack, "gateway-jwt", port, extra):
         url = f"http://127.0.0.1:{port}"
         assert "bag_info" in await tool_names(url, _jwt(key))
-        core = await tool_names(url, _jwt(key, sub="bob", bagmcp_profile="core"))
+        core = await tool_names(url, _jwt(key, sub="bob", bagmcp_profile="core", scope="read upload"))
         assert set(core) == CORE
         stranger = rsa.generate_private_key(public_exponent=65537, key_size=2048)
         for refused in (
@@ -249,6 +233,10 @@ async def test_jwts_of_the_identity_provider_are_accepted_and_others_refused(
             assert answer.status_code == 401
         no_scope = httpx.get(f"{url}/api/v1/bags", headers={"Authorization": f"Bearer {_jwt(key, scope='')}"})
         assert no_scope.status_code == 403
+        assert "bag_info" in await tool_names(url, _jwt(key, scope=None, scp=["read"]))  # scp as the README says
+        assert await tool_names(url, _jwt(key, bagmcp_profile="typo")) == []  # an unknown profile grants nothing
+        no_subject = httpx.get(f"{url}/api/v1/bags", headers={"Authorization": f"Bearer {_jwt(key, sub='')}"})
+        assert no_subject.status_code == 401
         assert "bag_info" in await tool_names(url, TOKEN)  # API tokens still work beside JWTs
 
 

@@ -7,26 +7,16 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
-import anyio
 import pytest
 from mcp import Client
 
 from bagmcp_cli.embedded import compose
 from bagmcp_cli.settings import EmbeddedSettings
 from bagmcp_gateway.aggregator import build_gateway_server
-from tests.fixtures.mcp_client import call, text_of
+from tests.fixtures.mcp_client import ingested_bags, text_of
 
 pytestmark = [pytest.mark.anyio, pytest.mark.corpus]
 BUDGET_BYTES = 40_000  # 16 KB of JSON, twice (structured content and text), plus the summary line
-
-
-async def _ready(client: Client) -> list[dict[str, Any]]:
-    with anyio.fail_after(180):
-        while True:
-            bags: list[dict[str, Any]] = (await call(client, "list_bags", limit=500))["bags"]
-            if all(b["status"] != "ingesting" for b in bags):
-                return bags
-            await anyio.sleep(0.2)
 
 
 PER_TOPIC: tuple[tuple[str, dict[str, Any]], ...] = (
@@ -64,7 +54,7 @@ async def test_no_tool_call_on_the_corpus_fails_without_a_reason(corpus: Path, t
                 unexplained.append(f"{label} {tool}")
             assert len(text) < BUDGET_BYTES, (label, tool, len(text))
 
-        for bag in await _ready(client):
+        for bag in await ingested_bags(client, timeout_s=180):
             if bag["status"] != "ready":
                 assert bag["error"], bag
                 continue

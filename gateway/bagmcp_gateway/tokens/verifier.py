@@ -1,10 +1,16 @@
 """Who a bearer token is: an API token (looked up by its hash, cached briefly) or a JWT from the team's
-identity provider (checked against its JWKS, issuer and audience)."""
+identity provider (checked against its JWKS, issuer and audience).
+
+Each kind owns its jobs under its own namespace (the ``owner`` claim): ``token:<name>`` for an API token,
+``static:<name>`` for a token given to the server at start, ``jwt:<issuer>:<sub>`` for a JWT, so a JWT whose
+subject is alice never reads API token alice's jobs."""
 
 from __future__ import annotations
 
 import time
+from collections.abc import Mapping
 from dataclasses import dataclass
+from typing import Any, Literal
 
 import anyio
 import jwt
@@ -26,8 +32,12 @@ class JwtSettings:
     audience: str | None = None
 
 
-def access_of(record: TokenRecord, secret: str) -> AccessToken:
-    claims = {"profile": record.profile, "allow": record.allow, "deny": record.deny}
+TokenKind = Literal["token", "static"]
+
+
+def access_of(record: TokenRecord, secret: str, kind: TokenKind = "token") -> AccessToken:
+    owner = f"{kind}:{record.name}"
+    claims = {"profile": record.profile, "allow": record.allow, "deny": record.deny, "owner": owner}
     expires = int(record.expires_at) if record.expires_at is not None else None
     return AccessToken(
         token=secret, client_id=record.name, scopes=list(record.scopes), expires_at=expires, claims=claims
@@ -57,10 +67,12 @@ class GatewayVerifier:
     async def verify_token(self, token: str) -> AccessToken | None:
         if self._jwks is not None and token.count(".") == 2:
             return await anyio.to_thread.run_sync(self._verify_jwt, token)
-        record = await self._record(token_hash(token))
+        digest = token_hash(token)
+        kind: TokenKind = "static" if digest in self._static else "token"
+        record = await self._record(digest)
         if record is None or record.expired():
             return None
-        return access_of(record, token)
+        return access_of(record, token, kind)
 
     async def _record(self, digest: str) -> TokenRecord | None:
         """The record whose hash is ``digest``: found by hash, then compared in constant time."""
@@ -92,15 +104,29 @@ class GatewayVerifier:
             )
         except jwt.PyJWTError:
             return None
-        granted = claims.get("scope", "")
-        listed = granted.split() if isinstance(granted, str) else list(claims.get("scp", []))
-        scopes = [s for s in listed if s in SCOPES]
-        extra = {"profile": claims.get("bagmcp_profile"), "allow": [], "deny": [], "iss": claims["iss"]}
+        subject = str(claims["sub"]).strip()
+        if not subject:  # an empty subject names nobody: it must not become some shared owner
+            return None
+        owner = f"jwt:{claims['iss']}:{subject}"
+        extra = {"profile": claims.get("bagmcp_profile"), "allow": [], "deny": [], "iss": claims["iss"], "owner": owner}
         return AccessToken(
             token=token,
-            client_id=str(claims["sub"]),
-            scopes=scopes,
+            client_id=subject,
+            scopes=jwt_scopes(claims),
             expires_at=int(claims["exp"]),
-            subject=str(claims["sub"]),
+            subject=subject,
             claims=extra,
         )
+
+
+def jwt_scopes(claims: Mapping[str, Any]) -> list[str]:
+    """The bagmcp scopes a JWT grants: ``scope`` (space separated, OAuth 2) when present, else ``scp`` (a list,
+    as Azure AD and Okta send it, or a space-separated string); names bagmcp does not know are dropped."""
+    granted = claims["scope"] if "scope" in claims else claims.get("scp", [])
+    if isinstance(granted, str):
+        listed = granted.split()
+    elif isinstance(granted, list):
+        listed = [str(s) for s in granted]
+    else:
+        listed = []
+    return [s for s in SCOPES if s in listed]

@@ -20,6 +20,7 @@ from mcp.server.mcpserver import Context
 from mcp.types import CallToolResult
 
 from bagmcp_kit.web.viewers import VIEWS_META_KEY, with_view
+from bagmcp_shared.laser_ranges import laser_ranges
 
 View = dict[str, Any]
 MAX_RANGES = 1440
@@ -62,15 +63,13 @@ async def add_view(ctx: Context, answer: CallToolResult, make: Callable[[], View
 def scan_entry(message: Any, *, offset_s: float) -> View:
     """One LaserScan for the polar view: ranges outside range_min..range_max become null; more than
     ``MAX_RANGES`` rays keep every k-th (the angle step grows to match)."""
-    ranges = np.asarray(message.ranges, dtype=np.float64)
-    low, high = float(message.range_min), float(message.range_max)
-    valid = np.isfinite(ranges) & (ranges >= low) & (ranges <= high)
-    shown = np.where(valid, ranges, np.nan)
+    scan = laser_ranges(message)
+    shown = np.where(scan.valid, scan.ranges, np.nan)
     step = max(1, math.ceil(shown.size / MAX_RANGES))
     return {
         "t": round(offset_s, 6),
-        "angle_min": float(message.angle_min),
-        "angle_increment": float(message.angle_increment) * step,
-        "range_max": high,
+        "angle_min": scan.angle_min,
+        "angle_increment": scan.angle_increment * step,
+        "range_max": scan.range_max,
         "ranges": numbers(shown[::step]),
     }

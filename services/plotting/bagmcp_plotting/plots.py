@@ -19,6 +19,7 @@ from bagmcp_plotting.reports import Artifact, PlotReport, SeriesOut
 from bagmcp_shared.access import BagAccess, OpenBag
 from bagmcp_shared.errors import ArgumentError
 from bagmcp_shared.jobs import JobKind, Progress, spans
+from bagmcp_shared.laser_ranges import laser_ranges
 from bagmcp_shared.topics import SCAN, choose_lidar_topic, choose_pose_topic, is_fix
 from bagmcp_shared.units import unit_of
 
@@ -141,11 +142,8 @@ class Plotter:
                     raise ArgumentError(f"{topic} is {msgtype}; plot_lidar_scan draws LaserScan topics")
                 raw = ob.nearest(topic, ob.time(params.time))
                 message = ob.reader.decode(raw)
-                ranges = np.asarray(getattr(message, "ranges"), dtype=np.float64)  # noqa: B009
-                start_rad, step_rad = float(getattr(message, "angle_min")), float(getattr(message, "angle_increment"))  # noqa: B009
-                angles = (start_rad + np.arange(ranges.size) * step_rad).astype(np.float64)
-                low, high = float(getattr(message, "range_min")), float(getattr(message, "range_max"))  # noqa: B009
-                valid = np.isfinite(ranges) & (ranges >= low) & (ranges <= high)
+                scan = laser_ranges(message)
+                ranges, angles, valid, high = scan.ranges, scan.angles, scan.valid, scan.range_max
                 when = ob.instant(raw.log_time_ns)
                 title = f"{topic} at {when.offset_s:.2f} s ({ob.name})"
                 shown = np.where(valid, ranges, np.nan)

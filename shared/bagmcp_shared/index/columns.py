@@ -5,12 +5,9 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Iterable
-from typing import Protocol, cast
-
-import numpy as np
-import numpy.typing as npt
 
 from bagmcp_shared.bags import BagReader
+from bagmcp_shared.laser_ranges import laser_ranges
 from bagmcp_shared.paths import check_steps, extract, parse_field_path
 
 Getter = Callable[[object], float | int | str]
@@ -59,24 +56,9 @@ INDEXED_COLUMNS: dict[str, tuple[str, ...]] = {
 }
 
 
-class _Scan(Protocol):
-    ranges: npt.ArrayLike
-    range_min: float
-    range_max: float
-    angle_min: float
-    angle_increment: float
-
-
 def scan_minimum(message: object) -> tuple[float, float]:
     """Closest valid range of a LaserScan and its bearing (rad); NaN when no beam is valid."""
-    scan = cast(_Scan, message)
-    ranges = np.asarray(scan.ranges, dtype=np.float64)
-    low, high = float(scan.range_min), float(scan.range_max)
-    valid = np.isfinite(ranges) & (ranges >= low) & (ranges <= high)
-    if not valid.any():
-        return math.nan, math.nan
-    index = int(np.argmin(np.where(valid, ranges, np.inf)))
-    return float(ranges[index]), float(scan.angle_min) + index * float(scan.angle_increment)
+    return laser_ranges(message).closest() or (math.nan, math.nan)
 
 
 DERIVED: dict[str, Getter] = {

@@ -13,29 +13,19 @@ from bagmcp_analysis.lidar.gaps import FreeGap, free_gaps
 from bagmcp_analysis.lidar.geometry import beam_bearings_deg
 from bagmcp_analysis.lidar.sectors import Sector, sector_stats
 from bagmcp_analysis.lidar.series import Approach, first_within, minimum_profile
+from bagmcp_shared.laser_ranges import LaserRanges
 
 __all__ = [
     "Approach",
     "FreeGap",
     "Hit",
-    "Scan",
+    "LaserRanges",
     "ScanStats",
     "Sector",
     "first_within",
     "minimum_profile",
     "scan_stats",
 ]
-
-
-@dataclass(frozen=True, eq=False)
-class Scan:
-    """One sensor_msgs/LaserScan: ranges in metres, angles in radians (REP 103, CCW positive)."""
-
-    ranges: npt.NDArray[np.float64]
-    angle_min: float
-    angle_increment: float
-    range_min: float
-    range_max: float
 
 
 @dataclass(frozen=True)
@@ -67,7 +57,7 @@ class ScanStats:
     free_gaps: list[FreeGap]
 
 
-def _check_scan(scan: Scan, ranges: npt.NDArray[np.float64]) -> None:
+def _check_scan(scan: LaserRanges, ranges: npt.NDArray[np.float64]) -> None:
     if ranges.ndim != 1:
         raise ValueError(f"Scan ranges must be a 1-D array of metres (got shape {ranges.shape}).")
     if not math.isfinite(scan.angle_min) or not math.isfinite(scan.angle_increment) or scan.angle_increment == 0:
@@ -86,7 +76,9 @@ def _summary(good: npt.NDArray[np.float64]) -> tuple[float | None, float | None,
     return float(good.min()), float(good.max()), float(good.mean()), float(np.median(good))
 
 
-def scan_stats(scan: Scan, *, sectors: int = 8, free_range_m: float | None = None, max_gaps: int = 6) -> ScanStats:
+def scan_stats(
+    scan: LaserRanges, *, sectors: int = 8, free_range_m: float | None = None, max_gaps: int = 6
+) -> ScanStats:
     """Full-resolution geometry of one scan; valid beams are finite with range_min <= r <= range_max."""
     ranges = np.asarray(scan.ranges, dtype=np.float64)
     _check_scan(scan, ranges)

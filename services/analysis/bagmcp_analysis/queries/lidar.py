@@ -9,25 +9,16 @@ import numpy.typing as npt
 
 from bagmcp_analysis.job_kinds import LidarParams
 from bagmcp_analysis.lidar.pointcloud import CloudField, CloudStats, cloud_stats
-from bagmcp_analysis.lidar.scan import Scan, ScanStats, first_within, minimum_profile, scan_stats
+from bagmcp_analysis.lidar.scan import ScanStats, first_within, minimum_profile, scan_stats
 from bagmcp_analysis.reports.lidar import Closest, FirstWithin, LidarReport, MinimumProfile
 from bagmcp_shared.access import BagAccess, OpenBag
 from bagmcp_shared.bags.counted import counted
 from bagmcp_shared.errors import ArgumentError
 from bagmcp_shared.index import read_series
 from bagmcp_shared.jobs import Progress
+from bagmcp_shared.laser_ranges import laser_ranges
 from bagmcp_shared.timebase import Instant
 from bagmcp_shared.topics import CLOUD, SCAN, choose_lidar_topic
-
-
-def _scan(message: object) -> Scan:
-    return Scan(
-        ranges=np.asarray(getattr(message, "ranges"), dtype=np.float64),  # noqa: B009
-        angle_min=float(getattr(message, "angle_min")),  # noqa: B009
-        angle_increment=float(getattr(message, "angle_increment")),  # noqa: B009
-        range_min=float(getattr(message, "range_min")),  # noqa: B009
-        range_max=float(getattr(message, "range_max")),  # noqa: B009
-    )
 
 
 def _cloud(message: object) -> CloudStats:
@@ -55,7 +46,7 @@ def _one(ob: OpenBag, topic: str, msgtype: str, params: LidarParams) -> LidarRep
     raw = ob.nearest(topic, wanted)
     message = ob.reader.decode(raw)
     try:
-        scan = scan_stats(_scan(message)) if msgtype == SCAN else None
+        scan = scan_stats(laser_ranges(message)) if msgtype == SCAN else None
         cloud = _cloud(message) if msgtype == CLOUD else None
     except ValueError as err:
         raise ArgumentError(f"{topic} at {raw.log_time_ns}: {err}") from err

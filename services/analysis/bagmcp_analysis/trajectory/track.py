@@ -14,6 +14,7 @@ import numpy.typing as npt
 from bagmcp_analysis.trajectory.motion import Motion, analyse_motion
 from bagmcp_analysis.trajectory.types import Clock, Extents, Stop, Track, TrackSummary, Waypoint
 from bagmcp_analysis.trajectory.waypoints import select_waypoints
+from bagmcp_shared.laser_ranges import MOVING_MPS
 from bagmcp_shared.local_fixes import EARTH_RADIUS_M, LocalMetres, local_metres
 
 __all__ = [
@@ -81,7 +82,7 @@ def track_of_fixes(stamps_ns: npt.NDArray[np.int64], metres: LocalMetres, *, log
 
 
 def summarize_track(
-    track: Track, *, stop_speed_mps: float = 0.05, turn_rate_rps: float = 0.1, max_waypoints: int = 12
+    track: Track, *, stop_speed_mps: float = MOVING_MPS, turn_rate_rps: float = 0.1, max_waypoints: int = 12
 ) -> TrackSummary:
     """Distances, speeds, moving/stopped time, stops, extents and waypoints of a track (see module doc)."""
     _check_inputs(track, stop_speed_mps, turn_rate_rps, max_waypoints)

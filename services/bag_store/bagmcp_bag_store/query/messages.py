@@ -7,6 +7,7 @@ from dataclasses import dataclass
 import numpy as np
 from pydantic import JsonValue
 
+from bagmcp_bag_store.query.page_cursor import Cursor, CursorSigner, PageScope
 from bagmcp_bag_store.results import MessageAtTime, MessageOut, MessageRange, RangeMessage
 from bagmcp_shared.access import BagAccess, OpenBag
 from bagmcp_shared.bags import RawMessage
@@ -62,30 +63,6 @@ def get_message_at_time(
             delta_s=(raw.log_time_ns - stamp_ns) / 1e9,
             message=message_out(ob, raw, steps, budget_bytes),
         )
-
-
-@dataclass(frozen=True)
-class Cursor:
-    """Where the next page starts: its first log time, how many messages at that instant were shown
-    already, the window's total, and the position of that message in the window (for ``every``)."""
-
-    stamp_ns: int
-    skip: int
-    total: int
-    position: int = 0
-
-    @classmethod
-    def parse(cls, text: str | None) -> Cursor | None:
-        if not text:
-            return None
-        try:
-            parts = [int(part) for part in text.split(":")]
-            return cls(*parts)
-        except (TypeError, ValueError) as err:
-            raise ArgumentError(f"cursor {text!r} is not one this tool returned") from err
-
-    def __str__(self) -> str:
-        return f"{self.stamp_ns}:{self.skip}:{self.total}:{self.position}"
 
 
 def _count(ob: OpenBag, index: ColumnIndex | None, topic: str, lo: int, hi: int) -> int:
@@ -145,6 +122,7 @@ def get_messages_in_range(
     *,
     every: int = 1,
     budget_bytes: int,
+    signer: CursorSigner,
 ) -> MessageRange:
     if not 1 <= max_messages <= 1000:
         raise ArgumentError("max_messages must be between 1 and 1000")
@@ -152,9 +130,8 @@ def get_messages_in_range(
         name = ob.topic_name(topic)
         steps = projection(ob, name, fields)
         lo, hi = ob.window(start, end)
-        resume = Cursor.parse(cursor)
-        if resume is not None and not lo <= resume.stamp_ns <= hi:
-            raise ArgumentError("the cursor does not belong to this start/end window")
+        scope = PageScope(ob.record.id, name, lo, hi, every)
+        resume = signer.parse(cursor, scope)
         first = resume or Cursor(lo, 0, _count(ob, ob.index, name, lo, hi))
         out, following = _page(ob, name, steps, first, hi, _Limits(max_messages, budget_bytes, every))
         return MessageRange(
@@ -167,6 +144,6 @@ def get_messages_in_range(
             total=first.total,
             returned=len(out),
             truncated=following is not None,
-            next_cursor=str(following) if following else None,
+            next_cursor=signer.dump(following, scope) if following else None,
             messages=out,
         )

@@ -5,6 +5,7 @@ from __future__ import annotations
 from mcp.server.mcpserver import MCPServer
 
 from bagmcp_bag_store.fleet.service import Fleet
+from bagmcp_bag_store.query.page_cursor import cursor_key
 from bagmcp_bag_store.tools.catalog_tools import CatalogTools
 from bagmcp_bag_store.tools.fleet_tools import FleetTools, views_resource
 from bagmcp_bag_store.tools.message_tools import MessageTools
@@ -22,7 +23,7 @@ def build_server(
 ) -> MCPServer:
     tools = [
         CatalogTools(access, budget_bytes=budget_bytes),
-        MessageTools(access, budget_bytes=budget_bytes),
+        MessageTools(access, budget_bytes=budget_bytes, cursor_key=cursor_key(guard.service_token if guard else None)),
         SearchTools(access, work),
         FleetTools(fleet, work),
     ]

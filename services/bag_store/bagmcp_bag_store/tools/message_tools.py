@@ -9,6 +9,7 @@ from pydantic import Field
 
 from bagmcp_bag_store.query import messages
 from bagmcp_bag_store.query.column_range import messages_as_columns
+from bagmcp_bag_store.query.page_cursor import CursorSigner
 from bagmcp_bag_store.results import MessageAtTime, MessageRange
 from bagmcp_kit.answers import run_query
 from bagmcp_kit.arguments import READ_ONLY, BagRef, Fields, TimeArg, TopicName
@@ -19,9 +20,10 @@ DEFAULT_POINTS = 1000
 
 
 class MessageTools:
-    def __init__(self, access: BagAccess, *, budget_bytes: int) -> None:
+    def __init__(self, access: BagAccess, *, budget_bytes: int, cursor_key: bytes) -> None:
         self._access = access
         self._budget = budget_bytes
+        self._cursors = CursorSigner(cursor_key)
 
     @tool(READ_ONLY)
     def get_message_at_time(
@@ -84,6 +86,7 @@ class MessageTools:
                 cursor,
                 every=every,
                 budget_bytes=self._budget,
+                signer=self._cursors,
             ),
             lambda r: (
                 f"{r.returned} of {r.total} messages of {r.topic}"

@@ -8,7 +8,8 @@ import numpy as np
 import numpy.typing as npt
 import pytest
 
-from bagmcp_analysis.lidar.scan import Scan, scan_stats
+from bagmcp_analysis.lidar.scan import scan_stats
+from bagmcp_shared.laser_ranges import LaserRanges
 
 # Room 6 m (x) by 4 m (y) around the robot at the origin, facing +x.
 X_BACK, X_FRONT, Y_RIGHT, Y_LEFT = -2.0, 4.0, -1.5, 2.5
@@ -40,10 +41,10 @@ def room_range(theta: float) -> float:
     return wall_m
 
 
-def room_scan() -> Scan:
+def room_scan() -> LaserRanges:
     increment = 2 * math.pi / 360
     ranges = np.array([room_range(-math.pi + i * increment) for i in range(360)], dtype=np.float64)
-    return Scan(ranges=ranges, angle_min=-math.pi, angle_increment=increment, range_min=0.05, range_max=10.0)
+    return LaserRanges(ranges=ranges, angle_min=-math.pi, angle_increment=increment, range_min=0.05, range_max=10.0)
 
 
 def test_room_closest_hit_is_the_post_at_its_bearing() -> None:
@@ -105,7 +106,7 @@ def test_free_gaps_open_behind_the_doorways_widest_first() -> None:
 
 def test_invalid_returns_are_counted_by_kind() -> None:
     ranges = np.array([np.nan, np.inf, -np.inf, 0.05, 12.0, 1.0, 2.0, 3.0, np.nan, 0.1, 10.0])
-    scan = Scan(ranges=ranges, angle_min=0.0, angle_increment=0.1, range_min=0.1, range_max=10.0)
+    scan = LaserRanges(ranges=ranges, angle_min=0.0, angle_increment=0.1, range_min=0.1, range_max=10.0)
     stats = scan_stats(scan, free_range_m=2.5, max_gaps=2)
     counts = (stats.nan, stats.pos_inf, stats.neg_inf, stats.below_min, stats.above_max, stats.valid)
     assert counts == (2, 1, 1, 1, 1, 5)
@@ -122,18 +123,18 @@ def test_invalid_returns_are_counted_by_kind() -> None:
 
 
 def test_scan_without_valid_beams_reports_none() -> None:
-    scan = Scan(ranges=np.full(5, np.nan), angle_min=0.0, angle_increment=0.1, range_min=0.1, range_max=5.0)
+    scan = LaserRanges(ranges=np.full(5, np.nan), angle_min=0.0, angle_increment=0.1, range_min=0.1, range_max=5.0)
     stats = scan_stats(scan)
     assert (stats.valid, stats.min_m, stats.median_m, stats.closest, stats.free_gaps) == (0, None, None, None, [])
     assert all(s.valid == 0 and s.closest_m is None for s in stats.sectors)
 
 
-def _ring(free_bearings_deg: set[int], *, first_deg: int, beams: int, step: float = 1.0) -> Scan:
+def _ring(free_bearings_deg: set[int], *, first_deg: int, beams: int, step: float = 1.0) -> LaserRanges:
     bearings = [first_deg + step * i for i in range(beams)]
     ranges: npt.NDArray[np.float64] = np.array(
         [np.inf if round(b) % 360 in {f % 360 for f in free_bearings_deg} else 1.0 for b in bearings]
     )
-    return Scan(
+    return LaserRanges(
         ranges=ranges,
         angle_min=math.radians(first_deg),
         angle_increment=math.radians(step),
@@ -163,6 +164,6 @@ def test_clockwise_scan_reports_gaps_counter_clockwise() -> None:
 
 
 def test_zero_angle_increment_is_rejected() -> None:
-    scan = Scan(ranges=np.ones(3), angle_min=0.0, angle_increment=0.0, range_min=0.1, range_max=5.0)
+    scan = LaserRanges(ranges=np.ones(3), angle_min=0.0, angle_increment=0.0, range_min=0.1, range_max=5.0)
     with pytest.raises(ValueError, match="angle_increment"):
         scan_stats(scan)

@@ -105,3 +105,23 @@ async def test_an_absurd_time_is_an_error_that_says_what_times_are_accepted(serv
     async with Client(served.service("bag-store"), cache=None) as client:
         text = await call_error(client, "get_message_at_time", bag="scenario", topic="/odom", time=1e308)
     assert text.endswith("time 1e+308 is out of range; give seconds from the bag start, epoch seconds or ISO-8601")
+
+
+async def test_a_page_cursor_altered_or_used_for_another_request_is_refused(served: InProcess) -> None:
+    window: dict[str, object] = {"bag": "scenario", "topic": "/cmd_vel", "start": 2.0, "end": 3.0}
+    async with Client(served.service("bag-store"), cache=None) as client:
+        page = await call(client, "get_messages_in_range", **window, max_messages=4)
+        cursor = str(page["next_cursor"])
+        stamp, skip, total, position = cursor.split(":")[:4]
+        assert total == "11"
+        forged = [f"{stamp}:{skip}:-1:{position}", f"{stamp}:{skip}:5:{position}", cursor.replace(f":{total}:", ":5:")]
+        elsewhere: list[dict[str, object]] = [{"topic": "/odom"}, {"bag": "scenario_mcap"}, {"every": 2}, {"end": 2.9}]
+        refusals = [await call_error(client, "get_messages_in_range", **window, cursor=c) for c in forged]
+        refusals += [
+            await call_error(client, "get_messages_in_range", **{**window, **e}, cursor=cursor) for e in elsewhere
+        ]
+        for refusal in refusals:
+            assert "this cursor is not one get_messages_in_range returned for this bag, topic" in refusal
+            assert "call again without cursor" in refusal
+        following = await call(client, "get_messages_in_range", **window, cursor=cursor)
+    assert (following["total"], following["returned"]) == (11, 7)

@@ -45,8 +45,12 @@
     const out = el("div", { id: "plot-out" });
     const go = el("button", { type: "button", class: "primary" }, "Plot");
     panel.append(el("div", { class: "row" }, topic.field, field.field, go), out);
+    let asked = 0;
+    /* Fields of the topic chosen last: the first topic's answer, if slower, must not replace them. */
     async function fields() {
+      const mine = ++asked;
       const answer = await ns.api.callToolOk("describe_topic", { bag: bag.id, topic: topic.node.value });
+      if (mine !== asked) return;
       const numeric = (answer.structuredContent.fields || []).filter((f) => /^(float|int|uint|bool|byte|char)/.test(f.type));
       ns.replace(field.node, numeric.map((f) => el("option", { value: f.path }, f.path + (f.unit ? " [" + f.unit + "]" : ""))));
     }
