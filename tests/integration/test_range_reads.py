@@ -158,6 +158,8 @@ def test_answers_by_range_equal_the_local_file_and_a_point_read_fetches_a_few_ch
     assert answers(access, record.id) == local_answers(local_bag)  # warm: every block from disk
     assert files.blocks.counters.fetched_bytes == fetched
     assert files.blocks.counters.hits > 0
+    ingested_here = RangedBagFiles(store, tmp_path / "ingest-cache", max_bytes=1 << 30, reads=ROOMY)
+    assert ingested_here.reader_for(record)[0].is_file()  # the worker that ingested it reads its own copy
 
 
 def test_a_bag_many_times_larger_than_the_cache_answers_right_and_the_cache_keeps_its_bound(

@@ -147,6 +147,11 @@ class CachedBagFiles:
         path = self.path_for(record)
         return path, partial(open_bag, path)
 
+    def has_copy(self, record: BagRecord) -> bool:
+        """Whether this cache holds a complete copy of the bag's files now (ingest fetched it here)."""
+        root = self._dir / record.id
+        return (root / _COMPLETE).exists() and all((root / name).exists() for name in record.files)
+
     def index_dir(self, record: BagRecord) -> Path | None:
         if not record.index_files:
             return None

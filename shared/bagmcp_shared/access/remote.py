@@ -39,7 +39,7 @@ class RangedBagFiles(CachedBagFiles):
         )  # a dot name: the whole-copy cache neither counts nor evicts it
 
     def reader_for(self, record: BagRecord) -> tuple[Path, Callable[[], BagReader]]:
-        if not ranged(record):
+        if not ranged(record) or self.has_copy(record):  # a worker that ingested the bag reads its copy
             return super().reader_for(record)
         name = record.files[0]
         stored = StoredFile(record.name, keys.bag_file(record.id, name), record.size_bytes, record.etags.get(name, ""))
