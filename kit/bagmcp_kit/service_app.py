@@ -11,7 +11,7 @@ from contextlib import AbstractAsyncContextManager
 
 import uvicorn
 from fastapi import APIRouter, Depends, FastAPI, Request
-from fastapi.responses import JSONResponse
+from fastapi.responses import JSONResponse, PlainTextResponse
 from mcp.server.mcpserver import MCPServer
 from mcp.server.transport_security import TransportSecuritySettings
 
@@ -65,10 +65,12 @@ def create_service_app(
     statuses: StatusTable = (),
     on_shutdown: Callable[[], None] | None = None,
     checks: Mapping[str, Callable[[], bool]] | None = None,
+    metrics: Callable[[], dict[str, int]] | None = None,
 ) -> FastAPI:
-    """The service as an ASGI app. With ``service_token`` both MCP and REST require it. ``checks`` name the
-    stores the service needs (``{"s3": ...}``), each True while it answers: ``/readyz`` says each up or down
-    (503 when one is down), and the gateway's /readyz repeats it."""
+    """The service as an ASGI app. With ``service_token`` both MCP and REST require it, and /metrics (the
+    counters ``metrics`` gives, in Prometheus' text format) too. ``checks`` name the stores the service needs
+    (``{"s3": ...}``), each True while it answers: ``/readyz`` says each up or down (503 when one is down), and
+    the gateway's /readyz repeats it."""
     security = HOST_CHECK_IN_MIDDLEWARE
     mcp_app = server.streamable_http_app(streamable_http_path="/mcp", transport_security=security)
 
@@ -88,6 +90,8 @@ def create_service_app(
         statuses=statuses,
     )
     install_readiness(app, checks or {})
+    if metrics is not None:
+        add_metrics_route(app, metrics, rest_guard(service_token))
     app.mount("/", UniformErrors(mcp_app))
     return app
 
@@ -100,6 +104,15 @@ def install_readiness(app: FastAPI, checks: Mapping[str, Callable[[], bool]]) ->
         states = {name: "up" if check() else "down" for name, check in checks.items()}
         ready = all(state == "up" for state in states.values())
         return JSONResponse({"ready": ready, **states}, status_code=200 if ready else 503)
+
+
+def add_metrics_route(app: FastAPI, metrics: Callable[[], dict[str, int]], guard: Guard) -> None:
+    """GET /metrics behind ``guard``: every counter as ``# TYPE name counter`` and ``name value``."""
+
+    @app.get("/metrics", dependencies=[Depends(guard)])
+    def exposition() -> PlainTextResponse:
+        lines = [line for name, value in metrics().items() for line in (f"# TYPE {name} counter", f"{name} {value}")]
+        return PlainTextResponse("\n".join(lines) + "\n", media_type="text/plain; version=0.0.4")
 
 
 def serve(

@@ -15,7 +15,14 @@ from pathlib import Path
 
 import redis
 
-from bagmcp_shared.access import BagAccess, BagFiles, CachedBagFiles, FolderBagFiles, IndexPublisher, ReaderCache
+from bagmcp_shared.access import (
+    BagAccess,
+    BagFiles,
+    FolderBagFiles,
+    IndexPublisher,
+    RangedBagFiles,
+    ReaderCache,
+)
 from bagmcp_shared.budget import use_input_budget
 from bagmcp_shared.catalog import Catalog, MemoryCatalog, RedisCatalog
 from bagmcp_shared.errors import StorageError
@@ -52,6 +59,11 @@ class Resources:
     uploads: bool = True
     max_result_bytes: int = 16_000
     job_budget_s: float = 20.0
+
+    def metrics(self) -> dict[str, int]:
+        """This process's counters for /metrics: block cache hits and misses and bytes fetched from S3
+        (none when bags are read from a folder)."""
+        return self.files.blocks.counters.snapshot() if isinstance(self.files, RangedBagFiles) else {}
 
 
 @dataclass(frozen=True)
@@ -140,7 +152,7 @@ def team_resources(settings: TeamSettings, *, queue: str) -> Resources:
     store = s3_store(settings.s3)
     client = redis_client(settings.redis_url)
     wait_for_redis(client)
-    files = CachedBagFiles(store, settings.cache_dir, max_bytes=settings.cache_max_bytes)
+    files = RangedBagFiles(store, settings.cache_dir, max_bytes=settings.cache_max_bytes, reads=settings.range_reads)
     catalog = RedisCatalog(client)
     app = create_celery(settings.redis_url, queue=queue, visibility_timeout_s=settings.task_visibility_timeout_s)
     return Resources(

@@ -165,6 +165,33 @@ DEFAULT_INPUT_BUDGET = InputBudget()
 
 
 @dataclass(frozen=True)
+class RangeReads:
+    """Team mode reads MCAP bags where they are stored, by byte ranges, through a block cache on local
+    disk shared by the host's processes: ``block_bytes`` per block (one MCAP chunk is typically 1-4 MiB),
+    at most ``cache_bytes`` on disk, and ``read_ahead_bytes`` more fetched when a reader streams."""
+
+    block_bytes: int = 2**20
+    cache_bytes: int = 4 * 2**30
+    read_ahead_bytes: int = 8 * 2**20
+
+    @classmethod
+    def from_env(cls, env: Env) -> RangeReads:
+        reads = cls(
+            block_bytes=env.integer("BAGMCP_BLOCK_BYTES", 2**20),
+            cache_bytes=env.integer("BAGMCP_BLOCK_CACHE_BYTES", 4 * 2**30),
+            read_ahead_bytes=env.integer("BAGMCP_READ_AHEAD_BYTES", 8 * 2**20),
+        )
+        if reads.block_bytes < 4096 or reads.read_ahead_bytes < 0:
+            raise SettingsError("BAGMCP_BLOCK_BYTES must be at least 4096 and BAGMCP_READ_AHEAD_BYTES at least 0")
+        if reads.cache_bytes < 4 * (reads.block_bytes + reads.read_ahead_bytes):
+            raise SettingsError(
+                "BAGMCP_BLOCK_CACHE_BYTES must hold at least four reads: 4 x (BAGMCP_BLOCK_BYTES + "
+                "BAGMCP_READ_AHEAD_BYTES); raise it or lower those"
+            )
+        return reads
+
+
+@dataclass(frozen=True)
 class TeamSettings:
     """What every service process needs in team mode: Redis, S3, the service token, local data."""
 
@@ -178,6 +205,7 @@ class TeamSettings:
     task_visibility_timeout_s: int = 60  # a task of a worker that died goes to another after this long
     open_bags: OpenBagLimits = DEFAULT_OPEN_BAGS
     input_budget: InputBudget = DEFAULT_INPUT_BUDGET
+    range_reads: RangeReads = RangeReads()
 
     @classmethod
     def from_env(cls, env: Env) -> TeamSettings:
@@ -192,6 +220,7 @@ class TeamSettings:
             task_visibility_timeout_s=env.integer("BAGMCP_TASK_VISIBILITY_TIMEOUT_S", 60),
             open_bags=OpenBagLimits.from_env(env),
             input_budget=InputBudget.from_env(env),
+            range_reads=RangeReads.from_env(env),
         )
 
     @property

@@ -13,10 +13,12 @@ from bagmcp_shared.settings import ServiceSettings
 
 
 def create_app(settings: ServiceSettings) -> FastAPI:
-    server, _ = build_analysis(team_resources(settings.team, queue=QUEUE), guard=Guard.of(settings))
+    resources = team_resources(settings.team, queue=QUEUE)
+    server, _ = build_analysis(resources, guard=Guard.of(settings))
     return create_service_app(
         title="bagmcp analysis",
         server=server,
         service_token=settings.team.service_token,
         allowed_hosts=settings.http.allowed_hosts,
+        metrics=resources.metrics,
     )

@@ -32,4 +32,5 @@ def create_app(settings: BagStoreSettings) -> FastAPI:
         allowed_hosts=service.http.allowed_hosts,
         statuses=STATUSES,
         checks={"s3": resources.store.answers} if isinstance(resources.store, S3Store) else None,
+        metrics=resources.metrics,
     )

@@ -14,15 +14,13 @@ from bagmcp_shared.resources import team_resources
 
 def create_app(settings: PlottingSettings) -> FastAPI:
     service = settings.service
-    server, router, _ = build_plotting(
-        team_resources(service.team, queue=QUEUE),
-        artifact_base_url=settings.artifact_base_url,
-        guard=Guard.of(service),
-    )
+    resources = team_resources(service.team, queue=QUEUE)
+    server, router, _ = build_plotting(resources, artifact_base_url=settings.artifact_base_url, guard=Guard.of(service))
     return create_service_app(
         title="bagmcp plotting",
         server=server,
         routers=[router],
         service_token=service.team.service_token,
         allowed_hosts=service.http.allowed_hosts,
+        metrics=resources.metrics,
     )

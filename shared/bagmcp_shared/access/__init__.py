@@ -3,5 +3,15 @@
 from bagmcp_shared.access.files import BagFiles, CachedBagFiles, FolderBagFiles, IndexPublisher
 from bagmcp_shared.access.opened import BagAccess, OpenBag
 from bagmcp_shared.access.readers import ReaderCache
+from bagmcp_shared.access.remote import RangedBagFiles
 
-__all__ = ["BagAccess", "BagFiles", "CachedBagFiles", "FolderBagFiles", "IndexPublisher", "OpenBag", "ReaderCache"]
+__all__ = [
+    "BagAccess",
+    "BagFiles",
+    "CachedBagFiles",
+    "FolderBagFiles",
+    "IndexPublisher",
+    "OpenBag",
+    "RangedBagFiles",
+    "ReaderCache",
+]

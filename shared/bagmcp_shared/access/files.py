@@ -8,12 +8,14 @@ import os
 import shutil
 import threading
 import time
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from contextlib import contextmanager, suppress
+from functools import partial
 from pathlib import Path
 from typing import Protocol
 
 from bagmcp_shared import keys
+from bagmcp_shared.bags import BagReader, open_bag
 from bagmcp_shared.catalog.models import BagRecord
 from bagmcp_shared.errors import StorageError
 from bagmcp_shared.scratch import own_scratch
@@ -29,6 +31,10 @@ class BagFiles(Protocol):
 
     def index_dir(self, record: BagRecord) -> Path | None:
         """The local directory of the bag's columnar index, or None when it has none."""
+        ...
+
+    def reader_for(self, record: BagRecord) -> tuple[Path, Callable[[], BagReader]]:
+        """What the opened-bag cache keys the bag's readers by, and how to open one."""
         ...
 
 
@@ -62,6 +68,10 @@ class FolderBagFiles:
         if not served.exists():
             raise StorageError(f"bag {record.name} is no longer under the served folder {self._root}")
         return served
+
+    def reader_for(self, record: BagRecord) -> tuple[Path, Callable[[], BagReader]]:
+        path = self.path_for(record)
+        return path, partial(open_bag, path)
 
     def index_dir(self, record: BagRecord) -> Path | None:
         path = self._index_root / record.id
@@ -132,6 +142,15 @@ class CachedBagFiles:
     def path_for(self, record: BagRecord) -> Path:
         root = self._ensure(record.id, [keys.bag_file(record.id, name) for name in record.files], bag_id=record.id)
         return root / record.files[0] if record.layout == "file" else root
+
+    def reader_for(self, record: BagRecord) -> tuple[Path, Callable[[], BagReader]]:
+        path = self.path_for(record)
+        return path, partial(open_bag, path)
+
+    def has_copy(self, record: BagRecord) -> bool:
+        """Whether this cache holds a complete copy of the bag's files now (ingest fetched it here)."""
+        root = self._dir / record.id
+        return (root / _COMPLETE).exists() and all((root / name).exists() for name in record.files)
 
     def index_dir(self, record: BagRecord) -> Path | None:
         if not record.index_files:

@@ -129,7 +129,7 @@ class BagAccess:
         summary = record.summary
         if summary is None or ((summary.start_ns is None or summary.end_ns is None) and need_messages):
             raise TimeError(f"bag {record.name} has no messages")
-        path = self.files.path_for(record)
+        path, opener = self.files.reader_for(record)
         index = self.cache.index(record.id, path, lambda: ColumnIndex.load(self.files.index_dir(record)))
-        with self.cache.reader(record.id, path) as reader:
+        with self.cache.reader(record.id, path, opener) as reader:
             yield OpenBag(record, summary, reader, index)

@@ -55,8 +55,9 @@ class ReaderCache:
         self.opened = 0  # readers opened since start (tests and the benchmark read it)
 
     @contextmanager
-    def reader(self, bag_id: str, path: Path) -> Iterator[BagReader]:
-        """A reader of ``path`` for this caller alone, opened only when no idle one is cached."""
+    def reader(self, bag_id: str, path: Path, opener: Callable[[], BagReader] | None = None) -> Iterator[BagReader]:
+        """A reader of ``path`` for this caller alone, opened (by ``opener``, default ``open_bag(path)``)
+        only when no idle one is cached."""
         key = (bag_id, path)
         with self._lock:
             entry = self._entries.setdefault(key, _Entry())
@@ -65,7 +66,7 @@ class ReaderCache:
             entry.busy += 1
         try:
             if reader is None:
-                reader = open_bag(path)
+                reader = opener() if opener is not None else open_bag(path)
                 with self._lock:
                     self.opened += 1
                     entry.reader_size = max(entry.reader_size, reader_bytes(reader))

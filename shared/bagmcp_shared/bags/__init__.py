@@ -10,7 +10,7 @@ from bagmcp_shared.bags.models import (
     RawMessage,
     TopicSummary,
 )
-from bagmcp_shared.bags.reader import BagReader, open_bag
+from bagmcp_shared.bags.reader import BagReader, open_bag, open_stream
 
 __all__ = [
     "BagFormat",
@@ -23,4 +23,5 @@ __all__ = [
     "RawMessage",
     "TopicSummary",
     "open_bag",
+    "open_stream",
 ]

@@ -42,13 +42,13 @@ def _record_sizes(file: BinaryIO, offset: int) -> tuple[int, int] | None:
     return uncompressed, compressed
 
 
-def check_chunks(file: BinaryIO, indexes: Sequence[ChunkIndex]) -> None:
+def check_chunks(file: BinaryIO, indexes: Sequence[ChunkIndex], *, read_records: bool = True) -> None:
     """Refuse the file (UnsupportedFormatError naming the chunk) when a compressed chunk may expand past
-    the budget, as its index or its own record declares."""
+    the budget, as its index or (``read_records``) its own record declares."""
     for index in indexes:
         if not index.compression:
             continue
         where = f"the {index.compression} chunk at byte {index.chunk_start_offset:,}"
         check_record(where, declared_bytes=index.uncompressed_size, compressed_bytes=index.compressed_size)
-        if (sizes := _record_sizes(file, index.chunk_start_offset)) is not None:
+        if read_records and (sizes := _record_sizes(file, index.chunk_start_offset)) is not None:
             check_record(where, declared_bytes=sizes[0], compressed_bytes=sizes[1])

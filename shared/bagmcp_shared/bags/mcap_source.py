@@ -83,11 +83,14 @@ def _connection(channel: Channel, schema: Schema | None, count: int) -> Connecti
 
 
 class McapSource:
-    """One MCAP file."""
+    """One MCAP file: a local ``path``, or a seekable ``stream`` of ``size`` bytes named ``path``."""
 
-    def __init__(self, path: Path, *, recover_truncated: bool = False) -> None:
+    def __init__(
+        self, path: Path, *, recover_truncated: bool = False, stream: BinaryIO | None = None, size: int = 0
+    ) -> None:
         self._path = path
-        self._file: BinaryIO = path.open("rb")
+        self._file: BinaryIO = stream if stream is not None else path.open("rb")
+        self._size = size if stream is not None else 0
         self._notes: list[str] = []
         try:
             reader = SeekingReader(self._file)
@@ -98,7 +101,12 @@ class McapSource:
         self._summary = self._read_summary(reader)
         self._reader = reader
         if (summary := self._summary) is not None:
-            self._checked(lambda: check_chunks(self._file, summary.chunk_indexes))
+            hint = getattr(self._file, "hint_records", None)
+            # A ranged file (team mode) is an object ingest already read whole and checked, pinned by its ETag:
+            # its chunk records are not fetched again just to check their heads, only the index's sizes.
+            self._checked(lambda: check_chunks(self._file, summary.chunk_indexes, read_records=hint is None))
+            if hint is not None:
+                hint([(c.chunk_start_offset, c.chunk_start_offset + c.chunk_length) for c in summary.chunk_indexes])
             self._connections, self._bounds = self._from_summary(summary)
             chunks = [index.compression for index in summary.chunk_indexes]
         else:
@@ -161,7 +169,7 @@ class McapSource:
         return conns, {}
 
     def _from_scan(self, recover: bool) -> tuple[list[Connection], dict[int, tuple[int, int]], list[str]]:
-        found = self._checked(lambda: scan(self._file, self._path.stat().st_size))
+        found = self._checked(lambda: scan(self._file, self._file_size()))
         cut = found.cut
         if cut is None:
             self._notes.append(
@@ -230,13 +238,16 @@ class McapSource:
     def _streamed(self, ids: Collection[int], start_ns: int | None, stop_ns: int | None) -> Iterator[RawMessage]:
         by_id = {c.id: c for c in self._connections if c.id in set(ids)}
         try:
-            for item in stream(self._file, self._path.stat().st_size):
+            for item in stream(self._file, self._file_size()):
                 if not isinstance(item, Message) or (conn := by_id.get(item.channel_id)) is None:
                     continue
                 if (start_ns is None or item.log_time >= start_ns) and (stop_ns is None or item.log_time < stop_ns):
                     yield RawMessage(conn, item.log_time, item.data)
         except RecordError:
             return  # the damage was reported (or accepted for recovery) when the file was opened
+
+    def _file_size(self) -> int:
+        return self._size or self._path.stat().st_size
 
     def close(self) -> None:
         self._file.close()

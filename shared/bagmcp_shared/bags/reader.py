@@ -9,16 +9,17 @@ from collections.abc import Iterable, Iterator, Sequence
 from contextlib import ExitStack, contextmanager
 from pathlib import Path
 from types import TracebackType
-from typing import Self
+from typing import BinaryIO, Self
 
 from bagmcp_shared.bags.decoding import Decoder
 from bagmcp_shared.bags.detect import sniff_file
 from bagmcp_shared.bags.mcap_source import McapSource
 from bagmcp_shared.bags.models import BagFormat, BagSummary, Compression, Connection, RawMessage, TopicSummary
+from bagmcp_shared.bags.ros1_ranges import Ros1RangeSource
 from bagmcp_shared.bags.ros1_source import Ros1Source
 from bagmcp_shared.bags.ros2_dir import open_directory, open_storage_file
 from bagmcp_shared.bags.source import MessageSource
-from bagmcp_shared.errors import BagError, BagmcpError, DamagedBagError, TopicNotFoundError
+from bagmcp_shared.errors import BagError, BagmcpError, DamagedBagError, TopicNotFoundError, UnsupportedFormatError
 
 log = logging.getLogger(__name__)
 MESSAGE_CHARS = 600
@@ -76,8 +77,10 @@ class BagReader:
         stack: ExitStack,
         *,
         workspace: Path | None = None,
+        size_bytes: int | None = None,
     ) -> None:
         self.path = path
+        self._size_bytes = size_bytes
         self._workspace = workspace
         self.format = fmt
         self.files = tuple(files)
@@ -125,7 +128,7 @@ class BagReader:
         return BagSummary(
             path=str(self.path),
             format=self.format,
-            size_bytes=_size(self.path, self.files),
+            size_bytes=self._size_bytes if self._size_bytes is not None else _size(self.path, self.files),
             files=tuple(f.name for f in self.files),
             topics=tuple(sorted(topics.values(), key=lambda t: t.name)),
             profile=profile if isinstance(profile, str) else "",
@@ -223,3 +226,24 @@ def open_bag(path: str | os.PathLike[str], *, recover_truncated: bool = False) -
         stack.close()
         raise
     return BagReader(bag_path, source, fmt, files, stack, workspace=workspace)
+
+
+def open_stream(name: Path, stream: BinaryIO, *, size: int, fmt: BagFormat) -> BagReader:
+    """Open a bare MCAP file or a ROS 1 bag read through a seekable ``stream`` of ``size`` bytes (team
+    mode reads bags where they are stored, by byte ranges); ``name`` stands for the file in messages.
+    Closing the reader closes the stream."""
+    stack = ExitStack()
+    stack.callback(stream.close)
+    try:
+        with damage_named(name):
+            source: MessageSource
+            if fmt is BagFormat.ROS1:
+                source = Ros1RangeSource(name, stream)
+            elif fmt is BagFormat.MCAP:
+                source = McapSource(name, stream=stream, size=size)
+            else:
+                raise UnsupportedFormatError(f"{name}: {fmt} bags are not read from a stream")
+    except BaseException:
+        stack.close()
+        raise
+    return BagReader(name, source, fmt, [name], stack, size_bytes=size)

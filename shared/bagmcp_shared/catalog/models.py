@@ -77,7 +77,9 @@ class BagRecord(BaseModel):
     ``files`` are the bag's files relative to its root: one name for a single-file bag, the
     storage files and metadata.yaml for a ROS 2 directory (``layout == "directory"``).
     ``source`` is where the files live: an object-key prefix (``bags/<id>``) when ``in_store``,
-    else a path relative to the folder an embedded server serves (read-only).
+    else a path relative to the folder an embedded server serves (read-only). ``etags`` are the
+    object store's ETags of the files as stored (none in embedded mode or for bags stored before they
+    were recorded): a range read of an object whose ETag differs is refused, never answered.
     """
 
     id: str
@@ -96,3 +98,4 @@ class BagRecord(BaseModel):
     tags: list[str] = Field(default_factory=list)
     summary: CatalogSummary | None = None
     index_files: list[str] = Field(default_factory=list)
+    etags: dict[str, str] = Field(default_factory=dict)

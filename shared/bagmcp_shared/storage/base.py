@@ -8,7 +8,7 @@ import re
 import tempfile
 from collections.abc import Iterator
 from contextlib import AbstractContextManager, suppress
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import BinaryIO, Protocol
 
@@ -26,10 +26,11 @@ _KEY_RULE = (
 
 @dataclass(frozen=True)
 class ObjectInfo:
-    """One stored object: its key and its size in bytes."""
+    """One stored object: its key, its size in bytes and (where the store has one) its ETag."""
 
     key: str
     size: int
+    etag: str = field(default="", compare=False)  # equal objects are equal by key and size
 
 
 class ObjectStore(Protocol):

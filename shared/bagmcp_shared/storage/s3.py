@@ -129,12 +129,14 @@ class S3Store(StreamPutters):
         validate_key(key)
         with self._guard(f"store {key!r}"):
             try:
-                self._client.put_object(
+                written = self._client.put_object(
                     self._bucket, key, stream, -1 if length is None else length, part_size=PART_SIZE
                 )
             except OSError as err:
                 raise StorageError(f"Cannot upload {key!r} to {self._url}/{self._bucket}: {err}.") from err
-        return ObjectInfo(key, length) if length is not None else self.stat(key)
+        if length is None:
+            return self.stat(key)
+        return ObjectInfo(key, length, (written.etag or "").strip('"'))
 
     @contextmanager
     def open_read(self, key: str) -> Iterator[BinaryIO]:
@@ -169,6 +171,19 @@ class S3Store(StreamPutters):
                 response.close()
                 response.release_conn()
 
+    def read_range_tagged(self, key: str, *, offset: int, length: int) -> tuple[bytes, str]:
+        """Ranged GET of ``length`` > 0 bytes, with the ETag the server sent along (so a caller that pinned
+        an object's ETag sees a replaced object in the same request, at no extra round trip)."""
+        validate_key(key)
+        check_range(offset, length)
+        with self._guard(f"read {key!r}", key):
+            response = self._client.get_object(self._bucket, key, offset=offset, length=max(length, 1))
+            try:
+                return response.read(), (response.headers.get("ETag") or "").strip('"')
+            finally:
+                response.close()
+                response.release_conn()
+
     def download_to(self, key: str, path: Path) -> None:
         """Stream the object into ``path`` atomically."""
         with self.open_read(key) as source:
@@ -179,7 +194,7 @@ class S3Store(StreamPutters):
         validate_key(key)
         with self._guard(f"stat {key!r}", key):
             found = self._client.stat_object(self._bucket, key)
-        return ObjectInfo(key, found.size or 0)
+        return ObjectInfo(key, found.size or 0, (found.etag or "").strip('"'))
 
     def exists(self, key: str) -> bool:
         """Whether the bucket holds ``key``."""

@@ -2,9 +2,11 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from pathlib import Path
 
 from bagmcp_shared.access import BagAccess, BagFiles
+from bagmcp_shared.bags import BagReader
 from bagmcp_shared.catalog import BagRecord
 
 
@@ -19,6 +21,9 @@ class WithoutIndex:
 
     def index_dir(self, record: BagRecord) -> Path | None:
         return None
+
+    def reader_for(self, record: BagRecord) -> tuple[Path, Callable[[], BagReader]]:
+        return self._files.reader_for(record)
 
 
 def decoding(access: BagAccess) -> BagAccess:

@@ -30,8 +30,10 @@ class Shelf:
             return existing, False
         self._catalog.claim_name(name, bag_id)
         try:
+            etags = {}
             for file in files:
-                self._store.put_file(keys.bag_file(bag_id, file), root if root.is_file() else root / file)
+                stored = self._store.put_file(keys.bag_file(bag_id, file), root if root.is_file() else root / file)
+                etags[file] = stored.etag
             record = BagRecord(
                 id=bag_id,
                 name=name,
@@ -43,6 +45,7 @@ class Shelf:
                 size_bytes=sum((root if root.is_file() else root / f).stat().st_size for f in files),
                 created_at=time.time(),
                 tags=tags,
+                etags={file: etag for file, etag in etags.items() if etag},
             )
             if not self._catalog.add(record):  # the same content was registered concurrently
                 self._catalog.release_name(name, bag_id)

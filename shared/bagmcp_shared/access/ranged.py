@@ -1,0 +1,207 @@
+"""A read-only, seekable file over one stored object, read by byte ranges through the block cache.
+
+A bag library that seeks and reads (the ``mcap`` reader: footer, summary, then only the chunks a
+question needs) fetches just those blocks from the object store. Reads that continue where the last
+one ended also fetch ``read_ahead_bytes`` more in the same request, so a streaming reader makes few,
+large requests. Wrong data is impossible: every range response carries the object's ETag, which must
+be the one pinned when the file was opened (the catalog's, else the one a HEAD found, whose size must
+be the catalog's), and must hold every byte asked for; anything else is an error naming the bag.
+"""
+
+from __future__ import annotations
+
+import bisect
+import io
+import time
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Protocol
+
+from bagmcp_shared.access.blocks import BlockCache, object_id
+from bagmcp_shared.errors import DamagedBagError, ObjectNotFoundError, StorageError
+from bagmcp_shared.storage import ObjectInfo
+
+if TYPE_CHECKING:
+    from _typeshed import WriteableBuffer
+
+STREAMING = 2  # reads in a row that continue the last one before read-ahead starts (one chunk: one)
+RETRY_PAUSES_S = (0.2, 1.0)  # a failed request is tried again after these pauses, then the read fails
+
+
+class RangeStore(Protocol):
+    """What ranged reads need of an object store (S3Store has it)."""
+
+    @property
+    def bucket(self) -> str: ...
+
+    def stat(self, key: str) -> ObjectInfo: ...
+
+    def read_range_tagged(self, key: str, *, offset: int, length: int) -> tuple[bytes, str]: ...
+
+
+@dataclass(frozen=True)
+class StoredFile:
+    """One bag file as the catalog knows it: the bag's name (for errors), its key, size and ETag
+    ("" when the catalog recorded none)."""
+
+    bag: str
+    key: str
+    size: int
+    etag: str = ""
+
+
+def changed(bag: str, what: str) -> DamagedBagError:
+    return DamagedBagError(
+        f"bag {bag} changed in the object store after it was catalogued ({what}), so it is not read; "
+        "upload the bag again"
+    )
+
+
+def pinned_etag(store: RangeStore, stored: StoredFile) -> str:
+    """The ETag every range read must carry: the catalog's, checked against a HEAD of the object."""
+    try:
+        found = store.stat(stored.key)
+    except ObjectNotFoundError as err:
+        raise StorageError(
+            f"bag {stored.bag} is missing from the object store ({stored.key}); delete it and upload it again"
+        ) from err
+    if found.size != stored.size:
+        raise changed(stored.bag, f"{found.size} bytes, the catalog recorded {stored.size}")
+    if stored.etag and found.etag and found.etag != stored.etag:
+        raise changed(stored.bag, f"ETag {found.etag}, the catalog recorded {stored.etag}")
+    return stored.etag or found.etag
+
+
+class RangedFile(io.BufferedIOBase):
+    """``read``/``seek``/``tell`` over a stored object; keeps one block in memory for small reads.
+
+    Buffered, not raw: the ``mcap`` reader wraps raw streams in a ``BufferedReader`` of its own, which
+    reads ahead past the record it wants and closes the stream when it is collected."""
+
+    def __init__(self, store: RangeStore, stored: StoredFile, blocks: BlockCache, *, read_ahead_bytes: int) -> None:
+        super().__init__()
+        self._store = store
+        self._stored = stored
+        self._blocks = blocks
+        self._etag = pinned_etag(store, stored)
+        self._obj = object_id(store.bucket, stored.key, self._etag)
+        self._block = blocks.block_bytes
+        self._ahead = max(read_ahead_bytes // self._block, 0)
+        self._count = -(-stored.size // self._block)
+        self._pos = 0
+        self._next = -2  # the block after the last one read: a read starting there continues
+        self._streak = 0  # reads in a row that continued the one before
+        self._mem_index = -1
+        self._mem = b""
+        self._records: list[tuple[int, int]] = []  # (start, stop) of records a reader reads whole
+
+    def hint_records(self, spans: list[tuple[int, int]]) -> None:
+        """Tell the file the byte spans of records that are read whole (a bag's chunks, from its index):
+        a miss inside one then fetches the rest of it in the same request (a chunk's header and body are
+        two reads; without the hint they cost two requests)."""
+        self._records = sorted(spans)
+
+    def readable(self) -> bool:
+        return True
+
+    def seekable(self) -> bool:
+        return True
+
+    def tell(self) -> int:
+        return self._pos
+
+    def seek(self, offset: int, whence: int = io.SEEK_SET) -> int:
+        base = {io.SEEK_SET: 0, io.SEEK_CUR: self._pos, io.SEEK_END: self._stored.size}[whence]
+        if base + offset < 0:
+            raise ValueError(f"negative seek position {base + offset}")
+        self._pos = base + offset
+        return self._pos
+
+    def read1(self, size: int = -1) -> bytes:
+        return self.read(size)
+
+    def read(self, size: int | None = -1) -> bytes:
+        stop = self._stored.size if size is None or size < 0 else min(self._pos + size, self._stored.size)
+        if stop <= self._pos:
+            return b""
+        start, self._pos = self._pos, stop
+        first = start // self._block
+        if first == self._mem_index and stop <= (first + 1) * self._block:
+            return self._mem[start - first * self._block : stop - first * self._block]
+        return self._range(start, stop)
+
+    def readinto(self, buffer: WriteableBuffer) -> int:
+        view = memoryview(buffer).cast("B")
+        data = self.read(len(view))
+        view[: len(data)] = data
+        return len(data)
+
+    def _range(self, start: int, stop: int) -> bytes:
+        first, last = start // self._block, (stop - 1) // self._block
+        self._streak = self._streak + 1 if first in (self._next, self._next - 1) else 0
+        ahead = min(last + self._ahead, self._count - 1) if self._streak >= STREAMING else last
+        ahead = max(ahead, min(self._record_end(start) // self._block, self._count - 1))
+        self._next = last + 1
+        parts = self._blocks_of(first, last, ahead)
+        self._mem_index, self._mem = last, parts[-1]
+        joined = parts[0] if len(parts) == 1 else b"".join(parts)
+        return joined[start - first * self._block : stop - first * self._block]
+
+    def _record_end(self, offset: int) -> int:
+        """The last byte of the hinted record holding ``offset`` (``offset`` when none does)."""
+        at = bisect.bisect_right(self._records, (offset, 2**63)) - 1
+        if at >= 0 and self._records[at][0] <= offset < self._records[at][1]:
+            return self._records[at][1] - 1
+        return offset
+
+    def _blocks_of(self, first: int, last: int, ahead: int) -> list[bytes]:
+        """Blocks ``first`` .. ``last`` from memory, disk or one request per missing run (which also
+        fetches missing blocks up to ``ahead``)."""
+        parts: list[bytes] = []
+        index = first
+        while index <= last:
+            found = self._mem if index == self._mem_index else self._blocks.cached(self._obj, index)
+            if found is None:
+                fetched = self._fetch_run(index, max(ahead, last))
+                parts += fetched[: last - index + 1]
+                index += len(fetched)
+            else:
+                parts.append(found)
+                index += 1
+        return parts
+
+    def _fetch_run(self, first: int, last: int) -> list[bytes]:
+        with self._blocks.claim(self._obj, first, last) as end:
+            found = self._blocks.cached(self._obj, first)  # another process fetched it while we waited
+            if found is not None:
+                return [found]
+            offset = first * self._block
+            data = self._get(offset, min((end + 1) * self._block, self._stored.size) - offset)
+            parts = [data[at : at + self._block] for at in range(0, len(data), self._block)]
+            for number, part in enumerate(parts):
+                self._blocks.store(self._obj, first + number, part)
+            return parts
+
+    def _get(self, offset: int, length: int) -> bytes:
+        """``length`` bytes at ``offset`` from the object store, with bounded retries of failed requests."""
+        stored = self._stored
+        for attempt, pause in enumerate((*RETRY_PAUSES_S, None)):
+            try:
+                data, etag = self._store.read_range_tagged(stored.key, offset=offset, length=length)
+            except ObjectNotFoundError as err:
+                raise StorageError(
+                    f"bag {stored.bag} is missing from the object store ({stored.key}); delete it and upload it again"
+                ) from err
+            except StorageError as err:
+                if pause is None:
+                    raise StorageError(
+                        f"bag {stored.bag} could not be read after {attempt + 1} tries: {err} "
+                        "Try again once the object store is back."
+                    ) from err
+                time.sleep(pause)
+                continue
+            if etag and etag != self._etag:
+                raise changed(stored.bag, f"ETag {etag}, opened as {self._etag}")
+            if len(data) != length:
+                raise changed(stored.bag, f"{len(data)} of {length} bytes came back at offset {offset}")
+            return data
+        raise AssertionError("unreachable")  # the last pause is None

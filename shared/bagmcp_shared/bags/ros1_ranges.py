@@ -1,0 +1,192 @@
+"""ROS 1 bags read through a seekable stream by their index at the end, for reads by byte range.
+
+rosbags' reader opens a path and, at open, reads the message index records that follow every chunk
+(touching the whole file). This source reads only the bag header, then the index section at its end
+(connection records and chunk infos: per chunk its position, time span and message count per
+connection), and later only the chunks whose span overlaps a question's window and that hold its
+connections (plain, bz2 or lz4, decompressed with rosbags' decompressors). Messages come out in log
+time order, ties in file order, as rosbags gives them. Record headers are parsed with rosbags' own
+``Header``.
+"""
+
+from __future__ import annotations
+
+import heapq
+import io
+from collections.abc import Callable, Collection, Iterator, Sequence
+from dataclasses import dataclass, replace
+from pathlib import Path
+from typing import BinaryIO, TypeVar
+
+from rosbags.rosbag1 import ReaderError
+from rosbags.rosbag1.reader import Header, RecordType, decompressors, normalize, read_bytes, read_uint32
+from rosbags.typesys.msg import normalize_msgtype
+
+from bagmcp_shared.bags.models import Compression, Connection, Encoding, RawMessage
+from bagmcp_shared.errors import DamagedBagError
+
+MAGIC = b"#ROSBAG V2.0\n"
+_T = TypeVar("_T")
+_ERRORS = (ReaderError, KeyError, ValueError, EOFError, AssertionError)
+
+
+@dataclass(frozen=True)
+class ChunkSpan:
+    """One chunk as the index describes it: where it starts, its log-time span [start, end] and the
+    message count of each connection in it."""
+
+    pos: int
+    start_ns: int
+    end_ns: int
+    counts: dict[int, int]
+
+
+def _connection(stream: BinaryIO) -> Connection:
+    header = Header.read(stream, RecordType.CONNECTION)
+    conn_id, topic = header.get_uint32("conn"), normalize(header.get_string("topic"))
+    data = Header.read(stream)
+    definition = data.get_string("message_definition")
+    metadata = [("callerid", data.get_string("callerid") if "callerid" in data else "")]
+    latching = data.get_string("latching") if "latching" in data else ""
+    metadata.append(("latching", str(int(latching) if latching else 0)))
+    return Connection(
+        id=conn_id,
+        topic=topic,
+        msgtype=normalize_msgtype(data.get_string("type")),
+        encoding=Encoding.ROS1,
+        definition=definition,
+        definition_format="msg" if definition.strip() else "",
+        count=0,
+        digest=data.get_string("md5sum"),
+        metadata=tuple(metadata),
+    )
+
+
+def _chunk_span(stream: BinaryIO) -> ChunkSpan:
+    header = Header.read(stream, RecordType.CHUNK_INFO)
+    if header.get_uint32("ver") != 1:
+        raise ReaderError("CHUNK_INFO version is not 1")
+    count = header.get_uint32("count")
+    read_uint32(stream)  # the data length: count pairs of uint32
+    counts = {read_uint32(stream): read_uint32(stream) for _ in range(count)}
+    return ChunkSpan(header.get_uint64("chunk_pos"), header.get_time("start_time"), header.get_time("end_time"), counts)
+
+
+class Ros1RangeSource:
+    """A ROS 1 bag (format 2.0) read by its end index; ``name`` stands for it in messages."""
+
+    def __init__(self, name: Path, stream: BinaryIO) -> None:
+        self._name = name
+        self._stream = stream
+        try:
+            self._connections, self._chunks = self._read_index()
+        except _ERRORS as err:
+            raise DamagedBagError(
+                f"{name}: the ROS 1 bag's index is damaged ({err}); `rosbag reindex` may repair it"
+            ) from err
+        self._by_id = {c.id: c for c in self._connections}
+        if (hint := getattr(stream, "hint_records", None)) is not None:  # a chunk ends where the next starts
+            starts = sorted(span.pos for span in self._chunks)
+            hint(list(zip(starts, [*starts[1:], self._index_pos], strict=True)))
+        self._bounds: dict[int, tuple[int, int] | None] = {}
+        self._compression: Compression | None = None
+
+    def _read_index(self) -> tuple[list[Connection], list[ChunkSpan]]:
+        if self._stream.read(len(MAGIC)) != MAGIC:
+            raise ReaderError("not a ROS 1 bag of format 2.0")
+        header = Header.read(self._stream, RecordType.BAGHEADER)
+        index_pos, chunk_count = header.get_uint64("index_pos"), header.get_uint32("chunk_count")
+        self._index_pos = index_pos
+        if index_pos == 0:
+            raise ReaderError("the bag is not indexed")
+        if chunk_count == 0:
+            return [], []
+        self._stream.seek(index_pos)
+        found = [_connection(self._stream) for _ in range(header.get_uint32("conn_count"))]
+        chunks = [_chunk_span(self._stream) for _ in range(chunk_count)]
+        totals = {c.id: sum(span.counts.get(c.id, 0) for span in chunks) for c in found}
+        connections = [replace(c, count=totals[c.id]) for c in found]
+        return connections, chunks
+
+    @property
+    def connections(self) -> Sequence[Connection]:
+        return self._connections
+
+    @property
+    def notes(self) -> Sequence[str]:
+        return []
+
+    @property
+    def compression(self) -> Compression:
+        """What most chunks use; reads every chunk's header on first use (one small range each)."""
+        if self._compression is None:
+            names = []
+            for span in self._chunks:
+                self._stream.seek(span.pos)
+                names.append(
+                    self._guarded(lambda: Header.read(self._stream, RecordType.CHUNK).get_string("compression"))
+                )
+            self._compression = Compression.of_chunks(names)
+        return self._compression
+
+    def bounds(self, connection_id: int) -> tuple[int, int] | None:
+        """First and last log time of a connection: from the first and last chunk that hold it."""
+        if connection_id not in self._bounds:
+            holding = [span for span in self._chunks if span.counts.get(connection_id)]
+            if not holding:
+                self._bounds[connection_id] = None
+            else:
+                first = min(holding, key=lambda s: s.start_ns)
+                last = max(holding, key=lambda s: s.end_ns)
+                times_first = [t for t, _, _, _ in self._chunk_messages(first, {connection_id})]
+                times_last = [t for t, _, _, _ in self._chunk_messages(last, {connection_id})]
+                self._bounds[connection_id] = (min(times_first), max(times_last))
+        return self._bounds[connection_id]
+
+    def messages(
+        self, connection_ids: Collection[int], *, start_ns: int | None, stop_ns: int | None
+    ) -> Iterator[RawMessage]:
+        """Messages in time order, ties in the order the connections are asked for, then in file order
+        (as rosbags merges its per-connection indexes); a chunk is read once no earlier message is left."""
+        rank = {cid: n for n, cid in enumerate(dict.fromkeys(connection_ids)) if cid in self._by_id}
+        queue: list[tuple[int, int, int, int, int, bytes, ChunkSpan | None]] = []
+        for chunk in self._chunks:
+            overlaps = (start_ns is None or chunk.end_ns >= start_ns) and (stop_ns is None or chunk.start_ns < stop_ns)
+            if overlaps and any(chunk.counts.get(cid) for cid in rank):
+                queue.append((chunk.start_ns, -1, chunk.pos, 0, 0, b"", chunk))
+        heapq.heapify(queue)
+        while queue:
+            stamp, _, _, _, conn_id, data, span = heapq.heappop(queue)
+            if span is None:
+                yield RawMessage(self._by_id[conn_id], stamp, data)
+                continue
+            for t, offset, cid, payload in self._chunk_messages(span, set(rank)):
+                if (start_ns is None or t >= start_ns) and (stop_ns is None or t < stop_ns):
+                    heapq.heappush(queue, (t, rank[cid], span.pos, offset, cid, payload, None))
+
+    def _chunk_messages(self, span: ChunkSpan, wanted: set[int]) -> list[tuple[int, int, int, bytes]]:
+        """(log time, offset, connection, bytes) of the messages of ``wanted`` in one chunk."""
+        return self._guarded(lambda: list(self._parse_chunk(span, wanted)))
+
+    def _parse_chunk(self, span: ChunkSpan, wanted: set[int]) -> Iterator[tuple[int, int, int, bytes]]:
+        self._stream.seek(span.pos)
+        header = Header.read(self._stream, RecordType.CHUNK)
+        decompress = decompressors[header.get_string("compression")]
+        raw = decompress(read_bytes(self._stream, read_uint32(self._stream)))
+        records = io.BytesIO(raw)
+        while (offset := records.tell()) < len(raw):
+            record = Header.read(records)
+            size = read_uint32(records)
+            if record.get_uint8("op") == RecordType.MSGDATA and (conn_id := record.get_uint32("conn")) in wanted:
+                yield record.get_time("time"), offset, conn_id, read_bytes(records, size)
+            else:
+                records.seek(size, io.SEEK_CUR)
+
+    def _guarded(self, read: Callable[[], _T]) -> _T:
+        try:
+            return read()
+        except _ERRORS as err:
+            raise DamagedBagError(f"{self._name}: a chunk could not be read ({err})") from err
+
+    def close(self) -> None:
+        self._stream.close()

@@ -1,0 +1,263 @@
+"""Team mode reads MCAP bags where they are stored: byte ranges from a real weed S3 through the block
+cache on disk, checked against the same bag read from its local file (the embedded answers)."""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import random
+import secrets
+from collections.abc import Iterator
+from concurrent.futures import ProcessPoolExecutor
+from contextlib import ExitStack
+from multiprocessing import get_context
+from pathlib import Path
+
+import pytest
+from mcap.writer import CompressionType, Writer
+from rosbags.rosbag1 import Writer as Ros1Writer
+from rosbags.typesys import Stores, get_typestore
+
+from bagmcp_bag_store.ingest.content import content_id
+from bagmcp_bag_store.ingest.ingest import Ingestor
+from bagmcp_bag_store.ingest.shelf import Shelf
+from bagmcp_shared import keys
+from bagmcp_shared.access import BagAccess, RangedBagFiles
+from bagmcp_shared.bags import open_bag
+from bagmcp_shared.catalog import BagRecord, MemoryCatalog
+from bagmcp_shared.errors import DamagedBagError, StorageError
+from bagmcp_shared.settings import RangeReads
+from bagmcp_shared.storage import S3Store
+from tests.fixtures.faults import weed_server
+from tests.fixtures.restartable import Restartable
+from tests.fixtures.servers import S3Endpoint, remove_weed_sockets
+
+pytestmark = pytest.mark.integration
+
+COUNT = 3000
+START_NS = 1_700_000_000_000_000_000
+PERIOD_NS = 10_000_000  # 100 Hz: 30 s
+SMALL = RangeReads(block_bytes=16 * 1024, cache_bytes=256 * 1024, read_ahead_bytes=32 * 1024)
+ROOMY = RangeReads(block_bytes=64 * 1024, cache_bytes=64 * 2**20, read_ahead_bytes=256 * 1024)
+Answer = list[tuple[str, int, bytes]]
+
+
+def write_padded_mcap(path: Path, *, seed: int = 21) -> Path:
+    """COUNT JSON poses on /pose and every tenth one on /status, each pose with ~1 KB of random padding,
+    in uncompressed 64 KiB chunks: about 3.2 MB in some 50 chunks, so a point read needs few of them."""
+    rng = random.Random(seed)
+    with path.open("wb") as stream:
+        writer = Writer(stream, compression=CompressionType.NONE, chunk_size=64 * 1024)
+        writer.start(profile="", library="bagmcp-tests")
+        schema = writer.register_schema("robot.Pose", "jsonschema", json.dumps({"type": "object"}).encode())
+        pose = writer.register_channel("/pose", "json", schema)
+        status = writer.register_channel("/status", "json", schema)
+        for i in range(COUNT):
+            t = START_NS + i * PERIOD_NS
+            body = {"seq": i, "x": i / 100, "pad": rng.randbytes(512).hex()}
+            writer.add_message(pose, t, json.dumps(body).encode(), t)
+            if i % 10 == 0:
+                writer.add_message(status, t, json.dumps({"seq": i, "mode": "auto"}).encode(), t)
+        writer.finish()  # type: ignore[no-untyped-call]
+    return path
+
+
+def write_padded_ros1(path: Path, compression: str, *, seed: int = 21) -> Path:
+    """The same poses as std_msgs/String in a ROS 1 bag of 64 KiB chunks (plain, bz2 or lz4)."""
+    rng = random.Random(seed)
+    store = get_typestore(Stores.ROS1_NOETIC)
+    string = store.types["std_msgs/msg/String"]
+    writer = Ros1Writer(path)
+    if compression != "none":
+        writer.set_compression(Ros1Writer.CompressionFormat[compression.upper()])
+    writer.chunk_threshold = 64 * 1024
+    with writer:
+        pose = writer.add_connection("/pose", "std_msgs/msg/String", typestore=store)
+        status = writer.add_connection("/status", "std_msgs/msg/String", typestore=store)
+        for i in range(COUNT):
+            t = START_NS + i * PERIOD_NS
+            body = json.dumps({"seq": i, "x": i / 100, "pad": rng.randbytes(512).hex()})
+            writer.write(pose, t, store.serialize_ros1(string(data=body), "std_msgs/msg/String"))
+            if i % 10 == 0:
+                status_body = json.dumps({"seq": i, "mode": "auto"})
+                writer.write(status, t, store.serialize_ros1(string(data=status_body), "std_msgs/msg/String"))
+    return path
+
+
+@pytest.fixture(scope="module")
+def local_mcap(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    return write_padded_mcap(tmp_path_factory.mktemp("ranged") / "padded.mcap")
+
+
+@pytest.fixture(scope="module", params=["mcap", "ros1-none", "ros1-bz2", "ros1-lz4"])
+def local_bag(request: pytest.FixtureRequest, tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """The padded bag as a bare MCAP and as ROS 1 bags of each chunk compression."""
+    if request.param == "mcap":
+        path: Path = request.getfixturevalue("local_mcap")
+        return path
+    compression = str(request.param).removeprefix("ros1-")
+    return write_padded_ros1(tmp_path_factory.mktemp("ranged") / f"padded-{compression}.bag", compression)
+
+
+def s3_of(endpoint: S3Endpoint, bucket: str) -> S3Store:
+    return S3Store(
+        endpoint=endpoint.endpoint, access_key=endpoint.access_key, secret_key=endpoint.secret_key, bucket=bucket
+    )
+
+
+@pytest.fixture
+def store(s3_server: S3Endpoint) -> S3Store:
+    created = s3_of(s3_server, f"ranged-{secrets.token_hex(4)}")
+    created.ensure_bucket()
+    return created
+
+
+def shelve(store: S3Store, catalog: MemoryCatalog, bag: Path, work: Path, *, name: str = "padded") -> BagRecord:
+    """Store and ingest ``bag`` as the bag-store does (ingest reads its own whole copy, in ``work``)."""
+    record, _ = Shelf(catalog, store).register(bag, [bag.name], content_id([bag], directory=False), name=name, tags=[])
+    files = RangedBagFiles(store, work / "ingest-cache", max_bytes=1 << 30, reads=ROOMY)
+    assert Ingestor(catalog, files, files, store).ingest(record.id) == "ready"
+    ready = catalog.get(record.id)
+    assert ready is not None
+    assert ready.etags  # the ETag the store gave is recorded
+    return ready
+
+
+def answers(access: BagAccess, ref: str) -> Answer:
+    """Every message of the bag, and then point reads at five instants, as (topic, log time, bytes)."""
+    with access.open(ref) as bag:
+        found = [(m.connection.topic, m.log_time_ns, m.data) for m in bag.reader.messages()]
+        for i in (0, 777, 1500, 2222, COUNT - 1):
+            near = bag.nearest("/pose", START_NS + i * PERIOD_NS + 3)
+            found.append((near.connection.topic, near.log_time_ns, near.data))
+    return found
+
+
+def local_answers(path: Path) -> Answer:
+    with open_bag(path) as bag:
+        found = [(m.connection.topic, m.log_time_ns, m.data) for m in bag.messages()]
+        by_time = {t: (topic, t, data) for topic, t, data in found if topic == "/pose"}
+    return found + [by_time[START_NS + i * PERIOD_NS] for i in (0, 777, 1500, 2222, COUNT - 1)]
+
+
+def test_answers_by_range_equal_the_local_file_and_a_point_read_fetches_a_few_chunks(
+    store: S3Store, local_bag: Path, tmp_path: Path
+) -> None:
+    catalog = MemoryCatalog()
+    record = shelve(store, catalog, local_bag, tmp_path)
+    files = RangedBagFiles(store, tmp_path / "service-cache", max_bytes=1 << 30, reads=ROOMY)
+    access = BagAccess(catalog, files)
+    with access.open("padded") as bag:
+        near = bag.nearest("/pose", START_NS + 1234 * PERIOD_NS)
+    assert near.log_time_ns == START_NS + 1234 * PERIOD_NS
+    point = files.blocks.counters.fetched_bytes
+    assert point < record.size_bytes / 4, f"a point read fetched {point} of {record.size_bytes} bytes"
+    assert answers(access, record.id) == local_answers(local_bag)
+    assert not (tmp_path / "service-cache" / record.id).exists()  # no whole copy in the service's cache
+    fetched = files.blocks.counters.fetched_bytes
+    assert answers(access, record.id) == local_answers(local_bag)  # warm: every block from disk
+    assert files.blocks.counters.fetched_bytes == fetched
+    assert files.blocks.counters.hits > 0
+    ingested_here = RangedBagFiles(store, tmp_path / "ingest-cache", max_bytes=1 << 30, reads=ROOMY)
+    assert ingested_here.reader_for(record)[0].is_file()  # the worker that ingested it reads its own copy
+
+
+def test_a_bag_many_times_larger_than_the_cache_answers_right_and_the_cache_keeps_its_bound(
+    store: S3Store, local_bag: Path, tmp_path: Path
+) -> None:
+    catalog = MemoryCatalog()
+    record = shelve(store, catalog, local_bag, tmp_path)
+    assert record.size_bytes > 4 * SMALL.cache_bytes
+    files = RangedBagFiles(store, tmp_path / "small-cache", max_bytes=1 << 30, reads=SMALL)
+    access = BagAccess(catalog, files)
+    expected = local_answers(local_bag)
+    for _ in range(2):
+        assert answers(access, record.id) == expected
+        assert files.blocks.used_bytes() <= SMALL.cache_bytes
+    assert files.blocks.counters.evicted_blocks > 0
+
+
+def test_an_object_changed_under_the_catalog_is_an_error_naming_the_bag(
+    store: S3Store, local_mcap: Path, tmp_path: Path
+) -> None:
+    catalog = MemoryCatalog()
+    record = shelve(store, catalog, local_mcap, tmp_path, name="changing")
+    opened = BagAccess(catalog, RangedBagFiles(store, tmp_path / "a", max_bytes=1 << 30, reads=ROOMY))
+    with opened.open("changing") as bag:  # open now: the reader keeps the ETag it was opened with
+        bag.nearest("/pose", START_NS)
+    altered = bytearray(local_mcap.read_bytes())
+    altered[len(altered) // 2] ^= 0xFF  # the same size, other bytes (inside a chunk of /pose)
+    store.put_bytes(keys.bag_file(record.id, record.files[0]), bytes(altered))
+
+    fresh = BagAccess(catalog, RangedBagFiles(store, tmp_path / "b", max_bytes=1 << 30, reads=ROOMY))
+    with (
+        pytest.raises(DamagedBagError, match=r"bag changing changed in the object store .*ETag"),
+        fresh.open("changing"),
+    ):
+        pass
+    with (
+        pytest.raises(DamagedBagError, match="bag changing changed in the object store"),
+        opened.open("changing") as bag,
+    ):
+        list(bag.reader.messages(["/pose"]))  # blocks not read before come back with another ETag
+
+    store.put_bytes(keys.bag_file(record.id, record.files[0]), bytes(altered[:-100]))
+    unrecorded = record.model_copy(update={"etags": {}})  # a bag stored before ETags were recorded
+    catalog.replace(unrecorded)
+    other = BagAccess(catalog, RangedBagFiles(store, tmp_path / "c", max_bytes=1 << 30, reads=ROOMY))
+    with pytest.raises(DamagedBagError, match=r"bag changing changed .*the catalog recorded"), other.open("changing"):
+        pass
+
+
+def read_in_child(endpoint: S3Endpoint, bucket: str, record_json: str, cache: str) -> tuple[str, int, int]:
+    """In a process of its own: the digest of the bag's answers, the bytes it fetched and its cache misses."""
+    record = BagRecord.model_validate_json(record_json)
+    catalog = MemoryCatalog()
+    catalog.add(record)
+    files = RangedBagFiles(s3_of(endpoint, bucket), Path(cache), max_bytes=1 << 30, reads=ROOMY)
+    found = answers(BagAccess(catalog, files), record.id)
+    digest = hashlib.sha256(repr(found).encode()).hexdigest()
+    return digest, files.blocks.counters.fetched_bytes, files.blocks.counters.misses
+
+
+def test_two_processes_reading_one_bag_at_once_fetch_each_block_once(
+    store: S3Store, s3_server: S3Endpoint, local_mcap: Path, tmp_path: Path
+) -> None:
+    catalog = MemoryCatalog()
+    record = shelve(store, catalog, local_mcap, tmp_path)
+    cache = str(tmp_path / "host-cache")
+    with ProcessPoolExecutor(2, mp_context=get_context("spawn")) as pool:
+        runs = [pool.submit(read_in_child, s3_server, store.bucket, record.model_dump_json(), cache) for _ in range(2)]
+        results = [run.result(timeout=120) for run in runs]
+    expected = hashlib.sha256(repr(local_answers(local_mcap)).encode()).hexdigest()
+    assert [digest for digest, _, _ in results] == [expected, expected]
+    assert sum(fetched for _, fetched, _ in results) == record.size_bytes  # every byte fetched once
+
+
+@pytest.fixture
+def restartable_s3(tmp_path: Path) -> Iterator[tuple[Restartable, S3Endpoint]]:
+    server, endpoint, sockets = weed_server(tmp_path / "weed")
+    with ExitStack() as stack:
+        stack.callback(lambda: remove_weed_sockets(sockets))
+        stack.callback(server.stop)
+        server.start()
+        yield server, endpoint
+
+
+def test_the_object_store_stopped_mid_read_is_a_clear_error_and_the_next_call_works(
+    restartable_s3: tuple[Restartable, S3Endpoint], local_mcap: Path, tmp_path: Path
+) -> None:
+    server, endpoint = restartable_s3
+    store = s3_of(endpoint, "ranged")
+    store.ensure_bucket()
+    catalog = MemoryCatalog()
+    record = shelve(store, catalog, local_mcap, tmp_path)
+    access = BagAccess(catalog, RangedBagFiles(store, tmp_path / "svc", max_bytes=1 << 30, reads=SMALL))
+    with access.open(record.id) as bag:
+        bag.nearest("/pose", START_NS)  # open: summary read, reader cached
+    server.stop()
+    down = rf"bag padded could not be read after 3 tries: .*{endpoint.endpoint}"
+    with pytest.raises(StorageError, match=down), access.open(record.id) as bag:
+        list(bag.reader.messages(["/pose"]))
+    server.start()
+    assert answers(access, record.id) == local_answers(local_mcap)

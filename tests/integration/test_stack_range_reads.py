@@ -1,0 +1,53 @@
+"""The stack reads bare MCAP files and ROS 1 bags where they are stored: its answers equal the embedded
+server's on the same files, and the service that answered holds blocks of them, never a whole copy."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import httpx
+import pytest
+from mcp.client.client import Client
+
+from tests.fixtures.inprocess import copy_bags, in_process
+from tests.fixtures.mcp_client import JsonObject, call, http_client
+from tests.integration.stack import SERVICE_TOKEN, TOKEN, Stack
+from tests.integration.test_range_reads import write_padded_mcap, write_padded_ros1
+
+pytestmark = pytest.mark.anyio
+
+TIMES = [0.0, 7.77, 12.345, 29.99]
+
+
+async def answers(client: Client, names: list[str]) -> list[JsonObject]:
+    found: list[JsonObject] = []
+    for name in names:
+        found.append(await call(client, "describe_topic", bag=name, topic="/pose"))
+        for at in TIMES:
+            found.append(await call(client, "get_message_at_time", bag=name, topic="/pose", time=at))
+        found.append(await call(client, "get_messages_in_range", bag=name, topic="/status", start=3.0, end=4.5))
+    return found
+
+
+async def test_mcap_and_ros1_answers_by_range_equal_the_embedded_servers(stack: Stack, tmp_path: Path) -> None:
+    bags = [write_padded_mcap(tmp_path / "ranged_mcap.mcap"), write_padded_ros1(tmp_path / "ranged_ros1.bag", "lz4")]
+    uploaded = [stack.upload_ok(path) for path in bags]
+    names = [str(bag["name"]) for bag in uploaded]
+    await stack.wait_ready(names)
+    async with http_client(f"{stack.url}/mcp", TOKEN) as client:
+        remote = await answers(client, names)
+    with in_process(copy_bags(bags, tmp_path / "served"), tmp_path / "data") as services:
+        async with Client(services.gateway(), cache=None) as client:
+            local = await answers(client, names)
+    assert remote == local
+    assert remote[2]["message"]["time"]["offset_s"] == pytest.approx(7.77)
+    cache = stack.bag_store_data / "cache"
+    for bag in uploaded:
+        assert not (cache / str(bag["id"])).exists()  # no whole copy in the service that answered
+    assert any((cache / ".blocks" / "blocks").iterdir())
+    metrics = httpx.get(f"{stack.bag_store_url}/metrics", headers={"Authorization": f"Bearer {SERVICE_TOKEN}"})
+    counters = dict(line.split() for line in metrics.text.splitlines() if not line.startswith("#"))
+    assert int(counters["bagmcp_s3_fetched_bytes_total"]) > 0
+    assert int(counters["bagmcp_block_cache_misses_total"]) > 0
+    assert int(counters["bagmcp_block_cache_hits_total"]) > 0
+    assert httpx.get(f"{stack.bag_store_url}/metrics").status_code == 401

@@ -1,0 +1,63 @@
+"""The ROS 1 range reader (index at the end, then only the chunks needed) gives exactly what rosbags'
+reader gives: connections, counts, bounds, chunk compression and messages in the same order, on
+recorded bags of every chunk compression and on the generated scenario and drive bags."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from bagmcp_shared.bags.ros1_ranges import Ros1RangeSource
+from bagmcp_shared.bags.ros1_source import Ros1Source
+from bagmcp_shared.errors import DamagedBagError
+from tests.fixtures.bagfactory import write_bag
+from tests.fixtures.drive_bags import write_drive_bag
+
+RECORDED = [
+    "ros1/rosout_log/out.bag",
+    "ros1/evo_tf/tf_example.bag",
+    "ros1/turtlesim_rosbagjs/example.bag",
+    "ros1/turtlesim_rosbagjs/example-bz2.bag",
+    "ros1/turtlesim_rosbagjs/example-lz4.bag",
+    "ros1/jackal_imu_odom/test2.bag",
+    "ros1/datmo_scan_twist_imu/two_robots.bag",
+    "edge_cases/ros1_empty_message_definition.bag",
+]
+
+
+def assert_same(path: Path) -> None:
+    expected, ranged = Ros1Source(path), Ros1RangeSource(path, path.open("rb"))
+    try:
+        assert list(ranged.connections) == list(expected.connections)
+        assert ranged.compression == expected.compression
+        ids = [c.id for c in expected.connections]
+        assert [ranged.bounds(i) for i in ids] == [expected.bounds(i) for i in ids]
+        everything = list(expected.messages(ids, start_ns=None, stop_ns=None))
+        assert list(ranged.messages(ids, start_ns=None, stop_ns=None)) == everything
+        if everything:  # the middle third, connections asked for in reverse order (ties follow that order)
+            first, last = everything[0].log_time_ns, everything[-1].log_time_ns
+            lo, hi = first + (last - first) // 3, first + 2 * (last - first) // 3
+            backwards = ids[::-1]
+            window = list(expected.messages(backwards, start_ns=lo, stop_ns=hi))
+            assert list(ranged.messages(backwards, start_ns=lo, stop_ns=hi)) == window
+    finally:
+        expected.close()
+        ranged.close()
+
+
+@pytest.mark.parametrize("relpath", RECORDED)
+def test_recorded_bags_read_by_their_index_alone_equal_rosbags(corpus: Path, relpath: str) -> None:
+    assert_same(corpus / relpath)
+
+
+def test_generated_bags_read_by_their_index_alone_equal_rosbags(tmp_path: Path) -> None:
+    assert_same(write_bag("ros1", tmp_path))
+    assert_same(write_drive_bag("ros1", tmp_path))
+
+
+def test_a_bag_whose_index_is_cut_off_is_damaged_and_named(corpus: Path) -> None:
+    path = corpus / "edge_cases/ros1_truncated_invalid.bag"
+    damaged = r"ros1_truncated_invalid.bag: the ROS 1 bag's index is damaged"
+    with path.open("rb") as stream, pytest.raises(DamagedBagError, match=damaged):
+        Ros1RangeSource(path, stream)
