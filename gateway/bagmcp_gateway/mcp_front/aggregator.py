@@ -25,13 +25,13 @@ from mcp.server.context import CallNext, HandlerResult
 from mcp.server.subscriptions import InMemorySubscriptionBus, ListenHandler, SubscriptionBus
 from mcp_types.version import MODERN_PROTOCOL_VERSIONS
 
-from bagmcp_gateway.answers import WireResult
-from bagmcp_gateway.calls import call_tool
-from bagmcp_gateway.catalog import ToolCatalog
-from bagmcp_gateway.connections import Connections
-from bagmcp_gateway.gateway import Gateway as Gateway  # re-exported: app.py builds one
-from bagmcp_gateway.reads import list_resources, list_templates, read_resource
-from bagmcp_gateway.upstreams import GatewayConfigError, Upstream
+from bagmcp_gateway.mcp_front.calls import call_tool
+from bagmcp_gateway.mcp_front.gateway import Gateway as Gateway  # re-exported: app.py builds one
+from bagmcp_gateway.mcp_front.reads import list_resources, list_templates, read_resource
+from bagmcp_gateway.upstreams.connections import Connections
+from bagmcp_gateway.upstreams.relay import WireResult
+from bagmcp_gateway.upstreams.tool_catalog import ToolCatalog
+from bagmcp_gateway.upstreams.upstream import GatewayConfigError, Upstream
 from bagmcp_kit.web.viewers import without_viewer
 
 

@@ -13,12 +13,12 @@ from mcp import MCPError
 from mcp.server.auth.middleware.auth_context import get_access_token
 from mcp.server.auth.provider import AccessToken
 
-from bagmcp_gateway.answers import WireResult
-from bagmcp_gateway.audit import AuditRecord
-from bagmcp_gateway.gateway import Gateway, owner_of, who
-from bagmcp_gateway.ratelimit import retry_after_s
-from bagmcp_gateway.resource_routes import with_exposed_contents
-from bagmcp_gateway.upstreams import Upstream
+from bagmcp_gateway.access.ratelimit import retry_after_s
+from bagmcp_gateway.mcp_front.audit import AuditRecord
+from bagmcp_gateway.mcp_front.gateway import Gateway, owner_of, who
+from bagmcp_gateway.upstreams.relay import WireResult
+from bagmcp_gateway.upstreams.resource_routes import with_exposed_contents
+from bagmcp_gateway.upstreams.upstream import Upstream
 from bagmcp_kit.identity import owner_meta
 
 READ = "resources/read"

@@ -1,6 +1,6 @@
 """One tool call through the gateway: checked again (the tool is there, the caller may call it), rate
 limited, sent to its upstream with progress relayed, capped, audited and counted. The answer stays in its
-wire form from the upstream to the caller (answers.py)."""
+wire form from the upstream to the caller (wire_answers.py)."""
 
 from __future__ import annotations
 
@@ -18,14 +18,15 @@ from mcp.server.auth.provider import AccessToken
 from mcp.shared.inbound import mcp_param_headers
 from mcp.types import RequestParamsMeta
 
-from bagmcp_gateway.answers import WireResult, cap_answer, error_result, is_error, text_characters
-from bagmcp_gateway.audit import AuditRecord
-from bagmcp_gateway.catalog import ToolRoute
-from bagmcp_gateway.connections import sole_error
-from bagmcp_gateway.gateway import Gateway, owner_of, who
-from bagmcp_gateway.ratelimit import retry_after_s
-from bagmcp_gateway.resource_routes import with_exposed_links
-from bagmcp_gateway.upstreams import Upstream
+from bagmcp_gateway.access.ratelimit import retry_after_s
+from bagmcp_gateway.mcp_front.audit import AuditRecord
+from bagmcp_gateway.mcp_front.gateway import Gateway, owner_of, who
+from bagmcp_gateway.mcp_front.wire_answers import cap_answer, error_result, is_error, text_characters
+from bagmcp_gateway.upstreams.connections import sole_error
+from bagmcp_gateway.upstreams.relay import WireResult
+from bagmcp_gateway.upstreams.resource_routes import with_exposed_links
+from bagmcp_gateway.upstreams.tool_catalog import ToolRoute
+from bagmcp_gateway.upstreams.upstream import Upstream
 from bagmcp_kit.identity import owner_meta
 from bagmcp_kit.web.viewers import asking_for_views, without_view_data
 from bagmcp_shared.errors import BagmcpError

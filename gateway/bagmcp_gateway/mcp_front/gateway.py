@@ -8,13 +8,13 @@ from dataclasses import dataclass, field
 import mcp.types as types
 from mcp.server.auth.provider import AccessToken
 
-from bagmcp_gateway.answers import DEFAULT_MAX_CHARS
-from bagmcp_gateway.audit import AuditLog
-from bagmcp_gateway.catalog import ToolCatalog
-from bagmcp_gateway.connections import Connections
-from bagmcp_gateway.metrics import GatewayMetrics
-from bagmcp_gateway.policy import ToolPolicy
-from bagmcp_gateway.ratelimit import RateLimiter
+from bagmcp_gateway.access.policy import ToolPolicy
+from bagmcp_gateway.access.ratelimit import RateLimiter
+from bagmcp_gateway.mcp_front.audit import AuditLog
+from bagmcp_gateway.mcp_front.metrics import GatewayMetrics
+from bagmcp_gateway.mcp_front.wire_answers import DEFAULT_MAX_CHARS
+from bagmcp_gateway.upstreams.connections import Connections
+from bagmcp_gateway.upstreams.tool_catalog import ToolCatalog
 from bagmcp_kit.identity import LOCAL_CALLER
 
 
