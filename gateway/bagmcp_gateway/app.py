@@ -83,7 +83,7 @@ def create_app(
         statuses=[*ADMIN_STATUSES, *UPLOAD_STATUSES, *statuses],
     )
     shared_redis = redis_client(redis_url) if redis_url is not None else None
-    app.include_router(readiness_router(gateway.catalog, gateway.metrics, shared_redis))
+    app.include_router(readiness_router(gateway.tool_catalog, gateway.metrics, shared_redis))
     app.add_middleware(UploadGuard, limits=settings.uploads)
     install_console(app, token_required=verifier is not None)
     install_lab_page(app)

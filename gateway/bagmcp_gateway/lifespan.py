@@ -1,5 +1,5 @@
 """What runs while the gateway serves: the shared change-event bus (team mode), the upstream links, the tool
-catalog (listed once before the first request, then kept fresh) and the MCP session manager; on the way out
+tool catalog (listed once before the first request, then kept fresh) and the MCP session manager; on the way out
 the audit log is flushed and ``on_shutdown`` runs (embedded mode closes its services there)."""
 
 from __future__ import annotations
@@ -26,7 +26,7 @@ def gateway_lifespan(
     shared_bus: RedisSubscriptionBus | None,
     on_shutdown: Callable[[], None] | None = None,
 ) -> Lifespan:
-    catalog = gateway.catalog
+    tool_catalog = gateway.tool_catalog
 
     @contextlib.asynccontextmanager
     async def lifespan(_app: FastAPI) -> AsyncIterator[None]:
@@ -34,10 +34,10 @@ def gateway_lifespan(
             if shared_bus is not None:
                 await group.start(shared_bus.run)
             await group.start(gateway.connections.run)
-            await catalog.refresh_all()
-            catalog.check_startup()  # a tool name two upstreams publish stops the gateway here, naming both
+            await tool_catalog.refresh_all()
+            tool_catalog.check_startup()  # a tool name two upstreams publish stops the gateway here, naming both
             gateway.listed = True
-            await group.start(catalog.run)
+            await group.start(tool_catalog.run)
             async with server.session_manager.run():
                 yield
             group.cancel_scope.cancel()

@@ -45,7 +45,7 @@ def _instructions_middleware(gateway: Gateway, configured: str | None) -> Any:
         with contextlib.suppress(GatewayConfigError):  # tools/list reports it
             await gateway.tools()
         result = await call_next(ctx)
-        text = configured or gateway.catalog.instructions
+        text = configured or gateway.tool_catalog.instructions
         if isinstance(result, dict) and text:
             result["instructions"] = text
         return result
@@ -134,7 +134,7 @@ def gateway_server(
         on_list_resource_templates=on_list_templates,
         on_read_resource=on_read_resource,  # type: ignore[arg-type]
         on_subscriptions_listen=ListenHandler(bus),
-        get_tool_input_schema=gateway.catalog.header_schema,  # else the SDK lists every tool per call
+        get_tool_input_schema=gateway.tool_catalog.header_schema,  # else the SDK lists every tool per call
     )
     server.extensions[APPS_EXTENSION] = {}  # MCP Apps: viewers of the upstreams' tools are relayed (reads.py)
     server.middleware.append(_instructions_middleware(gateway, instructions))

@@ -12,26 +12,26 @@ from bagmcp_gateway.upstreams.tool_catalog import ToolCatalog
 from bagmcp_shared.redis_errors import answers
 
 
-def readiness_router(catalog: ToolCatalog, metrics: GatewayMetrics, shared_redis: redis.Redis | None) -> APIRouter:
+def readiness_router(tool_catalog: ToolCatalog, metrics: GatewayMetrics, shared_redis: redis.Redis | None) -> APIRouter:
     """``shared_redis``: the team's Redis (None when the gateway runs without one)."""
     router = APIRouter()
 
     @router.get("/readyz")
     def readyz() -> JSONResponse:
         """Each upstream, and Redis in team mode, up or down, and the stores a service reports down (S3 for the
-        bag-store, as it said at the catalog's last look); the reasons go to the gateway's log, not to
+        bag-store, as it said at the tool catalog's last look); the reasons go to the gateway's log, not to
         unauthenticated callers."""
-        status = {name: "up" if state.up else "down" for name, state in catalog.states.items()}
+        status = {name: "up" if state.up else "down" for name, state in tool_catalog.states.items()}
         for name, up in status.items():
             metrics.upstream_up.labels(name).set(1 if up == "up" else 0)
         redis_up = shared_redis is None or answers(shared_redis)
-        stores_down = down_dependencies({name: state.dependencies for name, state in catalog.states.items()})
-        ready = all(s == "up" for s in status.values()) and not catalog.conflicts and redis_up and not stores_down
+        stores_down = down_dependencies({name: state.dependencies for name, state in tool_catalog.states.items()})
+        ready = all(s == "up" for s in status.values()) and not tool_catalog.conflicts and redis_up and not stores_down
         body: dict[str, object] = {
             "ready": ready,
             "upstreams": status,
-            "tools": len(catalog.tools),
-            "conflicts": len(catalog.conflicts),
+            "tools": len(tool_catalog.tools),
+            "conflicts": len(tool_catalog.conflicts),
         }
         if shared_redis is not None:
             body["redis"] = "up" if redis_up else "down"
