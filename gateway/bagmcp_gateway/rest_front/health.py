@@ -9,7 +9,7 @@ from fastapi.responses import JSONResponse, Response
 from bagmcp_gateway.mcp_front.metrics import GatewayMetrics
 from bagmcp_gateway.upstreams.readiness import down_dependencies
 from bagmcp_gateway.upstreams.tool_catalog import ToolCatalog
-from bagmcp_shared.redis_errors import answers
+from bagmcp_shared.redis_errors import responds_to_ping
 
 
 def readiness_router(tool_catalog: ToolCatalog, metrics: GatewayMetrics, shared_redis: redis.Redis | None) -> APIRouter:
@@ -24,7 +24,7 @@ def readiness_router(tool_catalog: ToolCatalog, metrics: GatewayMetrics, shared_
         status = {name: "up" if state.up else "down" for name, state in tool_catalog.states.items()}
         for name, up in status.items():
             metrics.upstream_up.labels(name).set(1 if up == "up" else 0)
-        redis_up = shared_redis is None or answers(shared_redis)
+        redis_up = shared_redis is None or responds_to_ping(shared_redis)
         stores_down = down_dependencies({name: state.dependencies for name, state in tool_catalog.states.items()})
         ready = all(s == "up" for s in status.values()) and not tool_catalog.conflicts and redis_up and not stores_down
         body: dict[str, object] = {
