@@ -11,11 +11,11 @@ from bagmcp_analysis.embedded import embedded_part as analysis_part
 from bagmcp_bag_store.embedded import embedded_part as bag_store_part
 from bagmcp_cli.settings import EmbeddedSettings
 from bagmcp_cli.token_actions import tokens_file
-from bagmcp_gateway.aggregator import build_gateway_server
+from bagmcp_gateway.access.tokens.models import token_hash
 from bagmcp_gateway.app import create_app
+from bagmcp_gateway.mcp_front.aggregator import build_gateway_server
 from bagmcp_gateway.settings import GatewaySettings
-from bagmcp_gateway.tokens.models import token_hash
-from bagmcp_gateway.upstreams import Upstream
+from bagmcp_gateway.upstreams.upstream import Upstream
 from bagmcp_kit.job_tools import build_jobs_server
 from bagmcp_kit.parts import ServicePart
 from bagmcp_kit.runtime.resources import Embedded, embedded_resources

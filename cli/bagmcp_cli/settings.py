@@ -9,7 +9,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from bagmcp_bag_store.settings import DEFAULT_QUERY_LIMITS, QueryLimits
-from bagmcp_gateway.ratelimit import Limit
+from bagmcp_gateway.access.ratelimit import Limit
 from bagmcp_gateway.settings import rate_limit_from_env
 from bagmcp_lab.settings import ANY_BASE_URL, LabSettings
 from bagmcp_shared.settings import (

@@ -16,8 +16,8 @@ from mcp.types import Tool
 
 from bagmcp_cli.embedded import compose
 from bagmcp_cli.settings import EmbeddedSettings
-from bagmcp_gateway.aggregator import build_gateway_server
-from bagmcp_gateway.policy import ToolPolicy, listing_characters, tool_characters
+from bagmcp_gateway.access.policy import ToolPolicy, listing_characters, tool_characters
+from bagmcp_gateway.mcp_front.aggregator import build_gateway_server
 
 
 async def _listing(profile: str) -> list[Tool]:

@@ -7,7 +7,7 @@ import argparse
 from pathlib import Path
 
 from bagmcp_cli.urls import mcp_url
-from bagmcp_gateway.profiles import PROFILE_NAMES
+from bagmcp_gateway.access.profiles import PROFILE_NAMES
 
 ACTIONS = "bagmcp_cli.surface_actions"
 

@@ -12,10 +12,10 @@ from pathlib import Path
 import httpx
 
 from bagmcp_cli.settings import EmbeddedSettings
-from bagmcp_gateway.profiles import DEFAULT_PROFILES
-from bagmcp_gateway.tokens.admin import TokenRequest, create_token, list_tokens, revoke_token
-from bagmcp_gateway.tokens.models import NewToken, TokenInfo
-from bagmcp_gateway.tokens.store import FileTokenStore
+from bagmcp_gateway.access.profiles import DEFAULT_PROFILES
+from bagmcp_gateway.access.tokens.admin import TokenRequest, create_token, list_tokens, revoke_token
+from bagmcp_gateway.access.tokens.models import NewToken, TokenInfo
+from bagmcp_gateway.access.tokens.store import FileTokenStore
 from bagmcp_shared.errors import BagmcpError
 
 TOKENS_FILE = "tokens.json"

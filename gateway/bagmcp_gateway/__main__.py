@@ -5,9 +5,9 @@ from __future__ import annotations
 import logging
 
 from bagmcp_gateway.app import create_app
-from bagmcp_gateway.proxy import build_proxy
+from bagmcp_gateway.rest_front.proxy import build_proxy
 from bagmcp_gateway.settings import GatewaySettings
-from bagmcp_gateway.upstreams import Upstream
+from bagmcp_gateway.upstreams.upstream import Upstream
 from bagmcp_kit.job_tools import build_jobs_server
 from bagmcp_kit.runtime.resources import redis_client
 from bagmcp_kit.service_app import serve

@@ -7,14 +7,14 @@ import json
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from bagmcp_gateway.answers import DEFAULT_MAX_CHARS
-from bagmcp_gateway.policy import ToolPolicy
-from bagmcp_gateway.profiles import DEFAULT_PROFILES, Profile
-from bagmcp_gateway.ratelimit import Limit
-from bagmcp_gateway.tokens.models import token_hash
-from bagmcp_gateway.tokens.verifier import JwtSettings
-from bagmcp_gateway.uploads import DEFAULT_IDLE_S, DEFAULT_PER_TOKEN, UploadLimits
-from bagmcp_gateway.upstreams import GatewayConfigError, Upstream
+from bagmcp_gateway.access.policy import ToolPolicy
+from bagmcp_gateway.access.profiles import DEFAULT_PROFILES, Profile
+from bagmcp_gateway.access.ratelimit import Limit
+from bagmcp_gateway.access.tokens.models import token_hash
+from bagmcp_gateway.access.tokens.verifier import JwtSettings
+from bagmcp_gateway.access.upload_limits import DEFAULT_IDLE_S, DEFAULT_PER_TOKEN, UploadLimits
+from bagmcp_gateway.mcp_front.wire_answers import DEFAULT_MAX_CHARS
+from bagmcp_gateway.upstreams.upstream import GatewayConfigError, Upstream
 from bagmcp_shared.settings import Env, HttpSettings
 
 DEFAULT_PORT = 8080

@@ -18,7 +18,7 @@ from bagmcp_shared.settings import ServiceSettings
 
 
 @dataclass(frozen=True)
-class Guard:
+class McpGuard:
     """What a service's MCP server checks over HTTP: the service credential every call carries (the
     gateway's), and the URL the service is reached at (named in its auth metadata)."""
 
@@ -26,7 +26,7 @@ class Guard:
     public_url: str
 
     @classmethod
-    def of(cls, settings: ServiceSettings) -> Guard:
+    def of(cls, settings: ServiceSettings) -> McpGuard:
         return cls(settings.team.service_token, settings.public_url)
 
 
@@ -35,7 +35,7 @@ def new_server(
     *,
     purpose: str,
     tools: Sequence[object],
-    guard: Guard | None = None,
+    guard: McpGuard | None = None,
     ingest: IngestWait | None = None,
 ) -> MCPServer:
     """An MCP server with the marked tools of ``tools`` (objects, in order), whose instructions state

@@ -23,7 +23,7 @@ from bagmcp_kit.http_errors import StatusTable, install_error_handlers
 from bagmcp_shared.errors import SettingsError
 from bagmcp_shared.settings import HttpSettings
 
-Guard = Callable[[Request], Awaitable[None]]
+RestGuard = Callable[[Request], Awaitable[None]]  # a REST route dependency: returns, or raises the refusal
 
 
 def new_app(
@@ -31,7 +31,7 @@ def new_app(
     title: str,
     lifespan: Callable[[FastAPI], AbstractAsyncContextManager[None]],
     routers: Sequence[APIRouter],
-    guard: Guard,
+    guard: RestGuard,
     allowed_hosts: Sequence[str],
     statuses: StatusTable = (),
 ) -> FastAPI:
@@ -106,7 +106,7 @@ def install_readiness(app: FastAPI, checks: Mapping[str, Callable[[], bool]]) ->
         return JSONResponse({"ready": ready, **states}, status_code=200 if ready else 503)
 
 
-def add_metrics_route(app: FastAPI, metrics: Callable[[], dict[str, int]], guard: Guard) -> None:
+def add_metrics_route(app: FastAPI, metrics: Callable[[], dict[str, int]], guard: RestGuard) -> None:
     """GET /metrics behind ``guard``: every counter as ``# TYPE name counter`` and ``name value``."""
 
     @app.get("/metrics", dependencies=[Depends(guard)])

@@ -19,7 +19,7 @@ def reachable(what: str) -> Iterator[None]:
         raise StorageError(f"{what} (Redis) is unreachable: {err}") from err
 
 
-def answers(client: redis.Redis) -> bool:
+def responds_to_ping(client: redis.Redis) -> bool:
     """Redis answers a PING (for readiness checks)."""
     try:
         return bool(client.ping())

@@ -13,7 +13,7 @@ from mcp import Client
 
 from bagmcp_cli.embedded import compose
 from bagmcp_cli.settings import EmbeddedSettings
-from bagmcp_gateway.aggregator import build_gateway_server
+from bagmcp_gateway.mcp_front.aggregator import build_gateway_server
 from bagmcp_shared.index import RECORD_TYPES
 from tests.checks.fleet_checks import long, query
 from tests.fixtures.mcp_client import call, ingested_bags

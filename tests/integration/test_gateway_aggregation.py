@@ -12,9 +12,9 @@ from mcp import Client
 from mcp.server.mcpserver import Context, MCPServer
 from mcp.types import SERVER_INFO_META_KEY
 
-from bagmcp_gateway.aggregator import build_gateway_server
-from bagmcp_gateway.connections import Connections
-from bagmcp_gateway.upstreams import GatewayConfigError, Upstream
+from bagmcp_gateway.mcp_front.aggregator import build_gateway_server
+from bagmcp_gateway.upstreams.connections import Connections
+from bagmcp_gateway.upstreams.upstream import GatewayConfigError, Upstream
 from tests.fixtures.bagfactory import BagKind
 from tests.fixtures.mcp_client import call, call_error, text_of
 from tests.fixtures.processes import BIN, http_ok, service

@@ -14,8 +14,8 @@ from dataclasses import dataclass, field
 import anyio
 import pytest
 
-from bagmcp_gateway.http_link import HttpLink
-from bagmcp_gateway.relay import JsonRpcRelay
+from bagmcp_gateway.upstreams.http_link import HttpLink
+from bagmcp_gateway.upstreams.relay import JsonRpcRelay
 
 pytestmark = pytest.mark.anyio
 Reply = Callable[[int, bytes], list[bytes] | None]  # (request number, body) -> chunks to send, None: hang up

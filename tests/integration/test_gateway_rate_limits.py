@@ -11,7 +11,7 @@ from typing import Any
 import pytest
 import redis
 
-from bagmcp_gateway.ratelimit import LEASE_FRACTION, MAX_LEASE, Limit, RedisRateLimiter
+from bagmcp_gateway.access.ratelimit import LEASE_FRACTION, MAX_LEASE, Limit, RedisRateLimiter
 from tests.fixtures.mcp_client import http_client
 from tests.fixtures.servers import free_port
 from tests.integration.stack import Stack, new_token, run_gateway

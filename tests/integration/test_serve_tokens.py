@@ -13,8 +13,8 @@ import httpx
 import pytest
 
 from bagmcp_cli.token_actions import tokens_file
-from bagmcp_gateway.tokens.models import TokenRecord, token_hash
-from bagmcp_gateway.tokens.store import FileTokenStore
+from bagmcp_gateway.access.tokens.models import TokenRecord, token_hash
+from bagmcp_gateway.access.tokens.store import FileTokenStore
 from tests.fixtures.mcp_client import call_error, http_client
 from tests.fixtures.processes import BIN, http_ok, service, wait_until
 from tests.fixtures.servers import free_port

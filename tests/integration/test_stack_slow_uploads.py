@@ -17,7 +17,7 @@ from typing import Any
 
 import pytest
 
-from bagmcp_gateway.uploads import UPLOAD_PATH
+from bagmcp_gateway.access.upload_limits import UPLOAD_PATH
 from tests.fixtures.bagfactory import write_chatter_bag
 from tests.fixtures.processes import wait_until
 from tests.fixtures.servers import free_port

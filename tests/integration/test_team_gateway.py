@@ -18,7 +18,7 @@ import pytest
 from cryptography.hazmat.primitives.asymmetric import rsa
 from mcp import Client
 
-from bagmcp_gateway.profiles import CORE_TOOLS
+from bagmcp_gateway.access.profiles import CORE_TOOLS
 from tests.fixtures.bagfactory import BagKind
 from tests.fixtures.identity_provider import jwks_server, signed_jwt
 from tests.fixtures.mcp_client import call, call_error, http_client

@@ -12,7 +12,7 @@ from mcp import Client
 
 from bagmcp_cli.embedded import compose
 from bagmcp_cli.settings import EmbeddedSettings
-from bagmcp_gateway.aggregator import build_gateway_server
+from bagmcp_gateway.mcp_front.aggregator import build_gateway_server
 from tests.fixtures.mcp_client import ingested_bags, text_of
 
 pytestmark = [pytest.mark.anyio, pytest.mark.corpus]

@@ -28,7 +28,7 @@ from bagmcp_shared.budget import use_input_budget
 from bagmcp_shared.catalog import Catalog, MemoryCatalog, RedisCatalog
 from bagmcp_shared.errors import StorageError
 from bagmcp_shared.jobs import JobStore, MemoryJobStore, RedisJobStore
-from bagmcp_shared.redis_errors import answers
+from bagmcp_shared.redis_errors import responds_to_ping
 from bagmcp_shared.scratch import use_scratch
 from bagmcp_shared.settings import (
     DEFAULT_INPUT_BUDGET,
@@ -137,7 +137,7 @@ def redis_client(url: str) -> redis.Redis:
 def wait_for_redis(client: redis.Redis, *, wait_s: float = 60.0) -> None:
     """Return once Redis answers; waits up to ``wait_s`` for a server that is still starting."""
     deadline = time.monotonic() + wait_s
-    while not answers(client):
+    while not responds_to_ping(client):
         if time.monotonic() > deadline:
             raise StorageError(f"Redis does not answer after {wait_s:.0f} s; is it running?")
         log.warning("waiting for Redis")

@@ -7,14 +7,14 @@ from fastapi import FastAPI
 from bagmcp_analysis.job_kinds import QUEUE
 from bagmcp_analysis.wiring import build_analysis
 from bagmcp_kit.runtime.resources import team_resources
-from bagmcp_kit.server import Guard
+from bagmcp_kit.server import McpGuard
 from bagmcp_kit.service_app import create_service_app
 from bagmcp_shared.settings import ServiceSettings
 
 
 def create_app(settings: ServiceSettings) -> FastAPI:
     resources = team_resources(settings.team, queue=QUEUE)
-    server, _ = build_analysis(resources, guard=Guard.of(settings))
+    server, _ = build_analysis(resources, guard=McpGuard.of(settings))
     return create_service_app(
         title="bagmcp analysis",
         server=server,

@@ -7,7 +7,7 @@ from mcp.server.mcpserver import MCPServer
 from bagmcp_analysis.tools import ANALYSIS, build_server
 from bagmcp_kit.longwork import LongWork
 from bagmcp_kit.runtime.resources import Resources
-from bagmcp_kit.server import Guard
+from bagmcp_kit.server import McpGuard
 from bagmcp_shared.access import BagAccess
 from bagmcp_shared.jobs import JobRegistry
 
@@ -17,7 +17,7 @@ def build_registry(access: BagAccess) -> JobRegistry:
     return ANALYSIS.registry(access)
 
 
-def build_analysis(res: Resources, *, guard: Guard | None = None) -> tuple[MCPServer, JobRegistry]:
+def build_analysis(res: Resources, *, guard: McpGuard | None = None) -> tuple[MCPServer, JobRegistry]:
     registry = build_registry(res.access)
     work = LongWork(res.jobs, res.runner, registry, budget_s=res.job_budget_s)
     return build_server(res.access, work, guard=guard), registry

@@ -11,7 +11,7 @@ from bagmcp_bag_store.job_kinds import QUEUE
 from bagmcp_bag_store.settings import BagStoreSettings
 from bagmcp_bag_store.wiring import build_bag_store, ingest_queue
 from bagmcp_kit.runtime.resources import team_resources
-from bagmcp_kit.server import Guard
+from bagmcp_kit.server import McpGuard
 from bagmcp_kit.service_app import create_service_app
 from bagmcp_shared.storage import S3Store
 
@@ -23,7 +23,9 @@ def create_app(settings: BagStoreSettings) -> FastAPI:
     resources = team_resources(service.team, queue=QUEUE)
     restore_lost_catalog(resources.catalog, resources.store, ingest_queue(resources), wait_s=RESTORE_WAIT_S)
     queue_fleet_backfill(resources.catalog, ingest_queue(resources))
-    bag_store = build_bag_store(resources, uploads=settings.uploads, queries=settings.queries, guard=Guard.of(service))
+    bag_store = build_bag_store(
+        resources, uploads=settings.uploads, queries=settings.queries, guard=McpGuard.of(service)
+    )
     return create_service_app(
         title="bagmcp bag-store",
         server=bag_store.server,

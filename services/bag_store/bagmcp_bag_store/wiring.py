@@ -20,7 +20,7 @@ from bagmcp_bag_store.tools import BAG_STORE, build_server
 from bagmcp_bag_store.tools.store import Store
 from bagmcp_kit.longwork import LongWork
 from bagmcp_kit.runtime.resources import Resources
-from bagmcp_kit.server import Guard
+from bagmcp_kit.server import McpGuard
 from bagmcp_shared.jobs import JobRegistry
 
 
@@ -59,7 +59,7 @@ def build_bag_store(
     *,
     uploads: UploadSettings,
     queries: QueryLimits | None = None,
-    guard: Guard | None = None,
+    guard: McpGuard | None = None,
 ) -> BagStore:
     work = build_work(res, queries=queries)
     longwork = LongWork(res.jobs, res.runner, work.registry, budget_s=res.job_budget_s)

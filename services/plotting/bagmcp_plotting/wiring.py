@@ -7,7 +7,7 @@ from mcp.server.mcpserver import MCPServer
 
 from bagmcp_kit.longwork import LongWork
 from bagmcp_kit.runtime.resources import Resources
-from bagmcp_kit.server import Guard
+from bagmcp_kit.server import McpGuard
 from bagmcp_plotting.artifacts import Artifacts, build_artifact_router
 from bagmcp_plotting.tools import PLOTTING, build_server
 from bagmcp_plotting.tools.plot_tools import Plotting
@@ -24,7 +24,7 @@ def build_plotting(
     res: Resources,
     *,
     artifact_base_url: str = "",
-    guard: Guard | None = None,
+    guard: McpGuard | None = None,
 ) -> tuple[MCPServer, APIRouter, JobRegistry]:
     artifacts = Artifacts(res.store, base_url=artifact_base_url)
     registry = build_registry(res.access, artifacts)

@@ -240,3 +240,49 @@ def test_the_checks_see_a_circle_an_arrow_up_and_celery(tmp_path: Path) -> None:
     found = {("low", "high"): {"probe/low/__init__.py"}, ("high", "low"): {"probe/high.py"}}
     assert upward(("low", "high"), package, found) == {"probe/low/__init__.py (low imports high, a higher floor)"}
     assert upward((MODULES, "low"), package, found) == {"probe/high.py (high imports low, a higher floor)"}
+
+
+GATEWAY = PACKAGES["bagmcp_gateway"]
+# The gateway's rooms and the rooms each may import: access and upstreams stand alone, the MCP front is built on
+# both, the REST front on all three; no room imports the modules at the top (app, lifespan, settings).
+GATEWAY_ROOMS = {
+    "access": {"access"},
+    "upstreams": {"upstreams"},
+    "mcp_front": {"mcp_front", "access", "upstreams"},
+    "rest_front": {"rest_front", "mcp_front", "access", "upstreams"},
+}
+
+
+def gateway_parts(source: Path) -> set[str]:
+    """What of the gateway a file imports: the room, or the top-level module (``bagmcp_gateway.<part>...``)."""
+    found: set[str] = set()
+    for node in ast.walk(ast.parse(source.read_text(), filename=str(source))):
+        names = [alias.name for alias in node.names] if isinstance(node, ast.Import) else []
+        if isinstance(node, ast.ImportFrom) and node.level == 0 and node.module:
+            names = [node.module]
+        found.update(name.split(".")[1] for name in names if name.startswith("bagmcp_gateway."))
+    return found
+
+
+@pytest.mark.parametrize("room", sorted(GATEWAY_ROOMS))
+def test_a_gateway_room_imports_only_the_rooms_below_it(room: str) -> None:
+    files = sorted((GATEWAY / room).rglob("*.py"))
+    assert len(files) > 3, f"gateway room {room}: no sources found"
+    crossings = {
+        f"{path.relative_to(ROOT)} imports bagmcp_gateway.{part}"
+        for path in files
+        for part in gateway_parts(path) - GATEWAY_ROOMS[room]
+    }
+    assert crossings == set()
+
+
+def test_every_gateway_module_but_the_composition_is_in_a_room() -> None:
+    top = {path.name for path in GATEWAY.glob("*.py")}
+    rooms = {path.name for path in GATEWAY.iterdir() if (path / "__init__.py").exists()}  # not a stale cache dir
+    assert (top, rooms) == ({"__init__.py", "__main__.py", "app.py", "lifespan.py", "settings.py"}, set(GATEWAY_ROOMS))
+
+
+def test_the_room_check_sees_a_crossing(tmp_path: Path) -> None:
+    source = tmp_path / "probe.py"
+    source.write_text("from bagmcp_gateway.settings import X\nimport bagmcp_gateway.access.auth\nfrom . import y\n")
+    assert gateway_parts(source) == {"settings", "access"}

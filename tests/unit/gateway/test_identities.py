@@ -12,13 +12,13 @@ import mcp.types as types
 import pytest
 from cryptography.hazmat.primitives.asymmetric import rsa
 
-from bagmcp_gateway.gateway import owner_of
-from bagmcp_gateway.policy import ToolPolicy
-from bagmcp_gateway.profiles import DEFAULT_PROFILES
-from bagmcp_gateway.tokens.admin import TokenRequest, create_token
-from bagmcp_gateway.tokens.models import TokenRecord, token_hash
-from bagmcp_gateway.tokens.store import FileTokenStore
-from bagmcp_gateway.tokens.verifier import GatewayVerifier, JwtSettings
+from bagmcp_gateway.access.identities import owner_of
+from bagmcp_gateway.access.policy import ToolPolicy
+from bagmcp_gateway.access.profiles import DEFAULT_PROFILES
+from bagmcp_gateway.access.tokens.admin import TokenRequest, create_token
+from bagmcp_gateway.access.tokens.models import TokenRecord, token_hash
+from bagmcp_gateway.access.tokens.store import FileTokenStore
+from bagmcp_gateway.access.tokens.verifier import GatewayVerifier, JwtSettings
 from bagmcp_kit.arguments import READ_ONLY
 from bagmcp_shared.errors import ArgumentError, JobNotFoundError
 from bagmcp_shared.jobs import MemoryJobStore

@@ -6,7 +6,7 @@ from __future__ import annotations
 import pytest
 from mcp import Client
 
-from bagmcp_gateway.instructions import merged_instructions, sentences
+from bagmcp_gateway.upstreams.instructions import merged_instructions, sentences
 from bagmcp_kit.arguments import CONVENTIONS
 from tests.fixtures.inprocess import InProcess
 

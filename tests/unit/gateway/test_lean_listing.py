@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import mcp.types as types
 
-from bagmcp_gateway.lean import lean_tools
+from bagmcp_gateway.access.lean import lean_tools
 
 READ = types.ToolAnnotations(read_only_hint=True, destructive_hint=False, idempotent_hint=True, open_world_hint=False)
 STOPS = types.ToolAnnotations(read_only_hint=False, destructive_hint=True, idempotent_hint=True, open_world_hint=False)

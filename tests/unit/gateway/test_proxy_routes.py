@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import pytest
 
-from bagmcp_gateway.proxy import forwarded_headers, route_of
+from bagmcp_gateway.rest_front.proxy import forwarded_headers, route_of
 
 ROUTES = {"bags": "http://bag-store:8001", "artifacts": "http://plotting:8003"}
 

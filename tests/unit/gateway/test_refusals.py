@@ -6,7 +6,7 @@ from __future__ import annotations
 import mcp.types as types
 from mcp.server.auth.provider import AccessToken
 
-from bagmcp_gateway.policy import ToolPolicy
+from bagmcp_gateway.access.policy import ToolPolicy
 
 FILTER = types.Tool(
     name="filter_bag",

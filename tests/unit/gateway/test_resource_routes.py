@@ -6,10 +6,10 @@ from __future__ import annotations
 from mcp.server.auth.provider import AccessToken
 from mcp.types import Resource, ResourceTemplate, Tool, ToolAnnotations
 
-from bagmcp_gateway.answers import cap_answer, error_result, text_characters
-from bagmcp_gateway.policy import ToolPolicy
-from bagmcp_gateway.resource_routes import ResourceRoutes, UpstreamResources, with_exposed_links
-from bagmcp_gateway.upstreams import Upstream
+from bagmcp_gateway.access.policy import ToolPolicy
+from bagmcp_gateway.mcp_front.wire_answers import cap_answer, error_result, text_characters
+from bagmcp_gateway.upstreams.resource_routes import ResourceRoutes, UpstreamResources, with_exposed_links
+from bagmcp_gateway.upstreams.upstream import Upstream
 
 PLOTTING = Upstream(name="plotting", url="http://plotting/mcp")
 WEATHER = Upstream(name="weather", url="http://weather/mcp", prefix="wx")

@@ -10,7 +10,7 @@ from fnmatch import fnmatchcase
 import pytest
 from mcp import Client
 
-from bagmcp_gateway.rest_policy import REST_ROUTES, rest_refusal, route_for
+from bagmcp_gateway.access.rest_policy import REST_ROUTES, rest_refusal, route_for
 from tests.fixtures.inprocess import InProcess
 
 pytestmark = pytest.mark.anyio

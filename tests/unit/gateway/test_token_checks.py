@@ -8,10 +8,10 @@ from pathlib import Path
 
 import pytest
 
-from bagmcp_gateway.tokens.admin import TokenRequest, create_token, revoke_token
-from bagmcp_gateway.tokens.models import TokenRecord, token_hash
-from bagmcp_gateway.tokens.store import FileTokenStore
-from bagmcp_gateway.tokens.verifier import GatewayVerifier
+from bagmcp_gateway.access.tokens.admin import TokenRequest, create_token, revoke_token
+from bagmcp_gateway.access.tokens.models import TokenRecord, token_hash
+from bagmcp_gateway.access.tokens.store import FileTokenStore
+from bagmcp_gateway.access.tokens.verifier import GatewayVerifier
 
 pytestmark = pytest.mark.anyio
 PROFILES = ["full", "core"]

@@ -12,8 +12,8 @@ import pytest
 from mcp import Client
 from mcp.types import Tool
 
-from bagmcp_gateway.policy import ToolPolicy, listing_characters
-from bagmcp_gateway.profiles import DEFAULT_PROFILES
+from bagmcp_gateway.access.policy import ToolPolicy, listing_characters
+from bagmcp_gateway.access.profiles import DEFAULT_PROFILES
 from tests.fixtures.inprocess import InProcess
 
 pytestmark = pytest.mark.anyio

@@ -11,7 +11,7 @@ import pytest
 from mcp import Client
 from mcp.client.extension import advertise
 
-from bagmcp_gateway.upstreams import Upstream
+from bagmcp_gateway.upstreams.upstream import Upstream
 from bagmcp_kit.web.viewers import VIEW_META_KEY, without_view_data, without_viewer
 from tests.fixtures import scenario as sc
 from tests.fixtures.inprocess import InProcess

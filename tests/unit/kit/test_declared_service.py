@@ -15,8 +15,8 @@ import pytest
 from mcp import Client
 from pydantic import BaseModel, ConfigDict, Field
 
-from bagmcp_gateway.aggregator import build_gateway_server
-from bagmcp_gateway.upstreams import Upstream
+from bagmcp_gateway.mcp_front.aggregator import build_gateway_server
+from bagmcp_gateway.upstreams.upstream import Upstream
 from bagmcp_kit.arguments import WRITES
 from bagmcp_kit.declared import GIVEN, Declared, ServiceTools
 from bagmcp_kit.job_tools import build_jobs_server

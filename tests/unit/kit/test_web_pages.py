@@ -9,7 +9,7 @@ from collections.abc import AsyncIterator
 from fastapi import FastAPI, Request
 from fastapi.testclient import TestClient
 
-from bagmcp_gateway.console import install_console
+from bagmcp_gateway.rest_front.console import install_console
 from bagmcp_kit.service_app import new_app
 from bagmcp_kit.web.pages import CSP
 

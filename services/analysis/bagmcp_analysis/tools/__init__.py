@@ -11,7 +11,7 @@ from bagmcp_analysis.tools.record_tools import LOGS, STATISTICS, TF_TREE, TRANSF
 from bagmcp_kit.declared import ServiceTools
 from bagmcp_kit.ingest_wait import IngestWait
 from bagmcp_kit.longwork import LongWork
-from bagmcp_kit.server import Guard, new_server
+from bagmcp_kit.server import McpGuard, new_server
 from bagmcp_shared.access import BagAccess
 
 PURPOSE = "Robot bag analysis: trajectories, lidar obstacles, logs, TF frames, images, topic timing, windows."
@@ -20,7 +20,7 @@ ANALYSIS = ServiceTools[BagAccess](
 )
 
 
-def build_server(access: BagAccess, work: LongWork, *, guard: Guard | None = None) -> MCPServer:
+def build_server(access: BagAccess, work: LongWork, *, guard: McpGuard | None = None) -> MCPServer:
     tools = [*ANALYSIS.specs(access, work), ImageTools(access)]
     ingest = IngestWait(access.catalog, work.budget_s)
     return new_server("bagmcp-analysis", purpose=PURPOSE, tools=tools, guard=guard, ingest=ingest)

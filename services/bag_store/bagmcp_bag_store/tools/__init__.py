@@ -14,13 +14,13 @@ from bagmcp_bag_store.tools.store import Store
 from bagmcp_kit.declared import ServiceTools
 from bagmcp_kit.ingest_wait import IngestWait
 from bagmcp_kit.longwork import LongWork
-from bagmcp_kit.server import Guard, new_server
+from bagmcp_kit.server import McpGuard, new_server
 
 PURPOSE = "Robot bags: list them, inspect topics, read and search messages, cut new bags, query across bags."
 BAG_STORE = ServiceTools[Store]("bag_store", RUN_JOB, (SEARCH, FILTER, QUERY, FIND))
 
 
-def build_server(store: Store, work: LongWork, *, guard: Guard | None = None) -> MCPServer:
+def build_server(store: Store, work: LongWork, *, guard: McpGuard | None = None) -> MCPServer:
     access, budget_bytes = store.access, store.budget_bytes
     tools = [
         CatalogTools(access, budget_bytes=budget_bytes),

@@ -8,7 +8,7 @@ from mcp.server.mcpserver.exceptions import ResourceNotFoundError
 from bagmcp_kit.declared import ServiceTools
 from bagmcp_kit.ingest_wait import IngestWait
 from bagmcp_kit.longwork import LongWork
-from bagmcp_kit.server import Guard, new_server
+from bagmcp_kit.server import McpGuard, new_server
 from bagmcp_plotting.artifacts import ARTIFACT_URI, Artifacts
 from bagmcp_plotting.job_kinds import RUN_JOB
 from bagmcp_plotting.tools.plot_tools import (
@@ -31,7 +31,9 @@ PLOTTING = ServiceTools[Plotting](
 )
 
 
-def build_server(access: BagAccess, work: LongWork, artifacts: Artifacts, *, guard: Guard | None = None) -> MCPServer:
+def build_server(
+    access: BagAccess, work: LongWork, artifacts: Artifacts, *, guard: McpGuard | None = None
+) -> MCPServer:
     ingest = IngestWait(access.catalog, work.budget_s)
     tools = PLOTTING.specs(Plotting.of(access, artifacts), work)
     server = new_server("bagmcp-plotting", purpose=PURPOSE, tools=tools, guard=guard, ingest=ingest)

@@ -8,10 +8,10 @@ import pytest
 from mcp import Client
 from mcp.server.subscriptions import InMemorySubscriptionBus
 
-from bagmcp_gateway.aggregator import Gateway, gateway_server
-from bagmcp_gateway.catalog import ToolCatalog
-from bagmcp_gateway.connections import Connections
-from bagmcp_gateway.policy import ToolPolicy
+from bagmcp_gateway.access.policy import ToolPolicy
+from bagmcp_gateway.mcp_front.aggregator import Gateway, gateway_server
+from bagmcp_gateway.upstreams.connections import Connections
+from bagmcp_gateway.upstreams.tool_catalog import ToolCatalog
 from tests.checks.fleet_checks import query
 from tests.fixtures.inprocess import InProcess
 from tests.fixtures.mcp_client import call, call_error

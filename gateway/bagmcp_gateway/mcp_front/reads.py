@@ -13,12 +13,13 @@ from mcp import MCPError
 from mcp.server.auth.middleware.auth_context import get_access_token
 from mcp.server.auth.provider import AccessToken
 
-from bagmcp_gateway.answers import WireResult
-from bagmcp_gateway.audit import AuditRecord
-from bagmcp_gateway.gateway import Gateway, owner_of, who
-from bagmcp_gateway.ratelimit import retry_after_s
-from bagmcp_gateway.resource_routes import with_exposed_contents
-from bagmcp_gateway.upstreams import Upstream
+from bagmcp_gateway.access.identities import owner_of, who
+from bagmcp_gateway.access.ratelimit import retry_after_s
+from bagmcp_gateway.mcp_front.audit import AuditRecord
+from bagmcp_gateway.mcp_front.gateway import Gateway
+from bagmcp_gateway.upstreams.relay import WireResult
+from bagmcp_gateway.upstreams.resource_routes import with_exposed_contents
+from bagmcp_gateway.upstreams.upstream import Upstream
 from bagmcp_kit.identity import owner_meta
 
 READ = "resources/read"
@@ -27,22 +28,22 @@ REQUEST_LIMITED = -32005  # implementation-defined JSON-RPC server error: this c
 
 def _readable(gateway: Gateway, caller: AccessToken | None) -> set[str]:
     """The upstreams whose resources ``caller`` may list and read."""
-    catalog = gateway.catalog
-    return {u.name for u in catalog.upstreams if gateway.policy.may_read(catalog.tools_of(u), caller)}
+    tool_catalog = gateway.tool_catalog
+    return {u.name for u in tool_catalog.upstreams if gateway.policy.may_read(tool_catalog.tools_of(u), caller)}
 
 
 async def list_resources(gateway: Gateway) -> types.ListResourcesResult:
     await gateway.tools()
     readable = _readable(gateway, get_access_token())
     return types.ListResourcesResult(
-        resources=[r for u, r in gateway.catalog.resources.resources if u.name in readable]
+        resources=[r for u, r in gateway.tool_catalog.resources.resources if u.name in readable]
     )
 
 
 async def list_templates(gateway: Gateway) -> types.ListResourceTemplatesResult:
     await gateway.tools()
     readable = _readable(gateway, get_access_token())
-    templates = [t for u, t in gateway.catalog.resources.templates if u.name in readable]
+    templates = [t for u, t in gateway.tool_catalog.resources.templates if u.name in readable]
     return types.ListResourceTemplatesResult(resource_templates=templates)
 
 
@@ -62,7 +63,7 @@ def _refused(code: int, message: str, uri: str) -> MCPError:
 
 async def _checked_read(gateway: Gateway, uri: str, caller: AccessToken | None, record: AuditRecord) -> WireResult:
     await gateway.tools()
-    route = gateway.catalog.resources.route(uri)
+    route = gateway.tool_catalog.resources.route(uri)
     if route is None:
         record.outcome = "unknown_resource"
         raise _refused(
@@ -90,7 +91,7 @@ async def _checked_read(gateway: Gateway, uri: str, caller: AccessToken | None, 
         record.outcome = "error"
         raise
     except Exception as err:  # transport failure or timeout
-        gateway.catalog.failed(upstream)
+        gateway.tool_catalog.failed(upstream)
         record.outcome = "unavailable"
         message = f"the {upstream.name} service is unavailable right now ({type(err).__name__}); try again shortly"
         raise _refused(types.INTERNAL_ERROR, message, uri) from err

@@ -6,7 +6,8 @@ from __future__ import annotations
 
 from typing import Any
 
-WireResult = dict[str, Any]  # a JSON-RPC result as it travels: what the upstream sent, or what we make here
+from bagmcp_gateway.upstreams.relay import WireResult
+
 DEFAULT_MAX_CHARS = 64_000
 NOTE = (
     "\n[answer cut at {kept:,} of {total:,} characters by the gateway; ask for less: a narrower time window, "

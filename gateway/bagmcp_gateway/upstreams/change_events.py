@@ -20,7 +20,7 @@ from anyio.abc import TaskStatus
 from mcp.server.subscriptions import InMemorySubscriptionBus, ServerEvent
 from mcp.shared.subscriptions import event_from_wire, event_to_notification
 
-from bagmcp_gateway.upstreams import Upstream
+from bagmcp_gateway.upstreams.upstream import Upstream
 
 log = logging.getLogger(__name__)
 CHANNEL = "bagmcp:gateway:events:"

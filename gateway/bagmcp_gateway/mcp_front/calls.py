@@ -1,6 +1,6 @@
 """One tool call through the gateway: checked again (the tool is there, the caller may call it), rate
 limited, sent to its upstream with progress relayed, capped, audited and counted. The answer stays in its
-wire form from the upstream to the caller (answers.py)."""
+wire form from the upstream to the caller (wire_answers.py)."""
 
 from __future__ import annotations
 
@@ -18,14 +18,16 @@ from mcp.server.auth.provider import AccessToken
 from mcp.shared.inbound import mcp_param_headers
 from mcp.types import RequestParamsMeta
 
-from bagmcp_gateway.answers import WireResult, cap_answer, error_result, is_error, text_characters
-from bagmcp_gateway.audit import AuditRecord
-from bagmcp_gateway.catalog import ToolRoute
-from bagmcp_gateway.connections import sole_error
-from bagmcp_gateway.gateway import Gateway, owner_of, who
-from bagmcp_gateway.ratelimit import retry_after_s
-from bagmcp_gateway.resource_routes import with_exposed_links
-from bagmcp_gateway.upstreams import Upstream
+from bagmcp_gateway.access.identities import owner_of, who
+from bagmcp_gateway.access.ratelimit import retry_after_s
+from bagmcp_gateway.mcp_front.audit import AuditRecord
+from bagmcp_gateway.mcp_front.gateway import Gateway
+from bagmcp_gateway.mcp_front.wire_answers import cap_answer, error_result, is_error, text_characters
+from bagmcp_gateway.upstreams.connections import sole_error
+from bagmcp_gateway.upstreams.relay import WireResult
+from bagmcp_gateway.upstreams.resource_routes import with_exposed_links
+from bagmcp_gateway.upstreams.tool_catalog import ToolRoute
+from bagmcp_gateway.upstreams.upstream import Upstream
 from bagmcp_kit.identity import owner_meta
 from bagmcp_kit.web.viewers import asking_for_views, without_view_data
 from bagmcp_shared.errors import BagmcpError
@@ -43,7 +45,7 @@ async def _forward(
     async def relay_progress(progress: float, total: float | None, message: str | None) -> None:
         await ctx.session.report_progress(progress, total, message)
 
-    meta = owner_meta(owner_of(caller), tools=gateway.policy.callable_names(gateway.catalog.tools, caller))
+    meta = owner_meta(owner_of(caller), tools=gateway.policy.callable_names(gateway.tool_catalog.tools, caller))
     if client_supports_apps(ctx):  # the service adds the data to draw only for callers that draw it
         meta = cast(RequestParamsMeta, asking_for_views(dict(meta)))
 
@@ -80,7 +82,7 @@ async def _unless_it_goes_down(
         group.cancel_scope.cancel()
 
     async def watch() -> None:
-        down.append(await gateway.catalog.went_down(upstream))
+        down.append(await gateway.tool_catalog.went_down(upstream))
         group.cancel_scope.cancel()
 
     try:
@@ -95,13 +97,13 @@ async def _unless_it_goes_down(
 
 
 def _missing(gateway: Gateway, name: str, record: AuditRecord) -> WireResult:
-    gone = gateway.catalog.known.get(name)
+    gone = gateway.tool_catalog.known.get(name)
     record.outcome, record.upstream = ("unavailable", gone.name) if gone else ("unknown_tool", None)
     if gone is not None:
         return error_result(
             f"the {gone.name} service is unavailable right now, so {name} cannot run; try again shortly"
         )
-    down = ", ".join(n for n, state in gateway.catalog.states.items() if not state.up) or "none"
+    down = ", ".join(n for n, state in gateway.tool_catalog.states.items() if not state.up) or "none"
     return error_result(f"Unknown tool: {name} (services unavailable right now: {down})")
 
 
@@ -114,7 +116,7 @@ async def _checked_call(
     record: AuditRecord,
 ) -> WireResult:
     await gateway.tools()
-    route = gateway.catalog.routes.get(name)
+    route = gateway.tool_catalog.routes.get(name)
     if route is None:
         return _missing(gateway, name, record)
     upstream = route.upstream
@@ -137,7 +139,7 @@ async def _checked_call(
         )
     except TimeoutError:
         log.warning("call of %s on %s timed out after %s s", route.original, upstream.name, upstream.call_timeout_s)
-        gateway.catalog.failed(upstream)
+        gateway.tool_catalog.failed(upstream)
         record.outcome = "unavailable"
         return error_result(
             f"the {upstream.name} service did not answer {name} within {upstream.call_timeout_s:g} s (its time "
@@ -145,7 +147,7 @@ async def _checked_call(
         )
     except Exception as err:  # transport failure (or a protocol error): the tool is there but its service is not
         log.warning("call of %s on %s failed: %s", route.original, upstream.name, err)
-        gateway.catalog.failed(upstream)
+        gateway.tool_catalog.failed(upstream)
         record.outcome = "unavailable"
         return error_result(
             f"the {upstream.name} service is unavailable right now ({type(err).__name__}); try again shortly"

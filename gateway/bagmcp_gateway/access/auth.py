@@ -10,8 +10,8 @@ from collections.abc import Awaitable, Callable
 from fastapi import Request
 from mcp.server.auth.provider import AccessToken
 
-from bagmcp_gateway.rest_policy import rest_refusal
-from bagmcp_gateway.tokens.verifier import GatewayVerifier
+from bagmcp_gateway.access.rest_policy import rest_refusal
+from bagmcp_gateway.access.tokens.verifier import GatewayVerifier
 from bagmcp_kit.http_errors import HttpError
 
 

@@ -19,8 +19,8 @@ from anyio.abc import TaskStatus
 from mcp import Client, MCPError
 from mcp_types.version import MODERN_PROTOCOL_VERSIONS
 
-from bagmcp_gateway.relay import JsonRpcRelay
-from bagmcp_gateway.upstreams import Upstream
+from bagmcp_gateway.upstreams.relay import JsonRpcRelay
+from bagmcp_gateway.upstreams.upstream import Upstream
 
 log = logging.getLogger(__name__)
 

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import httpx
 
-from bagmcp_gateway.upstreams import Upstream
+from bagmcp_gateway.upstreams.upstream import Upstream
 
 TIMEOUT_S = 3.0
 STATES = ("up", "down")

@@ -25,13 +25,13 @@ from mcp.server.context import CallNext, HandlerResult
 from mcp.server.subscriptions import InMemorySubscriptionBus, ListenHandler, SubscriptionBus
 from mcp_types.version import MODERN_PROTOCOL_VERSIONS
 
-from bagmcp_gateway.answers import WireResult
-from bagmcp_gateway.calls import call_tool
-from bagmcp_gateway.catalog import ToolCatalog
-from bagmcp_gateway.connections import Connections
-from bagmcp_gateway.gateway import Gateway as Gateway  # re-exported: app.py builds one
-from bagmcp_gateway.reads import list_resources, list_templates, read_resource
-from bagmcp_gateway.upstreams import GatewayConfigError, Upstream
+from bagmcp_gateway.mcp_front.calls import call_tool
+from bagmcp_gateway.mcp_front.gateway import Gateway as Gateway  # re-exported: app.py builds one
+from bagmcp_gateway.mcp_front.reads import list_resources, list_templates, read_resource
+from bagmcp_gateway.upstreams.connections import Connections
+from bagmcp_gateway.upstreams.relay import WireResult
+from bagmcp_gateway.upstreams.tool_catalog import ToolCatalog
+from bagmcp_gateway.upstreams.upstream import GatewayConfigError, Upstream
 from bagmcp_kit.web.viewers import without_viewer
 
 
@@ -45,7 +45,7 @@ def _instructions_middleware(gateway: Gateway, configured: str | None) -> Any:
         with contextlib.suppress(GatewayConfigError):  # tools/list reports it
             await gateway.tools()
         result = await call_next(ctx)
-        text = configured or gateway.catalog.instructions
+        text = configured or gateway.tool_catalog.instructions
         if isinstance(result, dict) and text:
             result["instructions"] = text
         return result
@@ -134,7 +134,7 @@ def gateway_server(
         on_list_resource_templates=on_list_templates,
         on_read_resource=on_read_resource,  # type: ignore[arg-type]
         on_subscriptions_listen=ListenHandler(bus),
-        get_tool_input_schema=gateway.catalog.header_schema,  # else the SDK lists every tool per call
+        get_tool_input_schema=gateway.tool_catalog.header_schema,  # else the SDK lists every tool per call
     )
     server.extensions[APPS_EXTENSION] = {}  # MCP Apps: viewers of the upstreams' tools are relayed (reads.py)
     server.middleware.append(_instructions_middleware(gateway, instructions))

@@ -17,8 +17,8 @@ from typing import Any
 import mcp.types as types
 from mcp.shared.uri_template import InvalidUriTemplate, UriTemplate
 
-from bagmcp_gateway.answers import WireResult
-from bagmcp_gateway.upstreams import Upstream
+from bagmcp_gateway.upstreams.relay import WireResult
+from bagmcp_gateway.upstreams.upstream import Upstream
 
 log = logging.getLogger(__name__)
 

@@ -10,8 +10,8 @@ from __future__ import annotations
 from fastapi import APIRouter, FastAPI, Request
 from fastapi.responses import JSONResponse
 
-from bagmcp_gateway.tokens.models import SCOPES
-from bagmcp_gateway.tokens.verifier import GatewayVerifier
+from bagmcp_gateway.access.tokens.models import SCOPES
+from bagmcp_gateway.access.tokens.verifier import GatewayVerifier
 from bagmcp_kit.web.pages import PAGE_HEADERS, static_app, web_router
 
 CONSOLE_PAGES = {"/": "console/index.html"}

@@ -26,11 +26,11 @@ from mcp.client.subscriptions import ListenNotSupportedError
 from mcp.server.subscriptions import ResourcesListChanged, ServerEvent, SubscriptionBus, ToolsListChanged
 from mcp.shared.inbound import x_mcp_header_map
 
-from bagmcp_gateway.connections import Connections, failure_text
-from bagmcp_gateway.instructions import merged_instructions
-from bagmcp_gateway.readiness import dependencies_of
-from bagmcp_gateway.resource_routes import ResourceRoutes, UpstreamResources
-from bagmcp_gateway.upstreams import GatewayConfigError, Upstream
+from bagmcp_gateway.upstreams.connections import Connections, failure_text
+from bagmcp_gateway.upstreams.instructions import merged_instructions
+from bagmcp_gateway.upstreams.readiness import dependencies_of
+from bagmcp_gateway.upstreams.resource_routes import ResourceRoutes, UpstreamResources
+from bagmcp_gateway.upstreams.upstream import GatewayConfigError, Upstream
 
 log = logging.getLogger(__name__)
 STARTUP_GRACE_S = 60.0  # services and the gateway start together: an upstream not answering yet is no error

@@ -16,8 +16,8 @@ import anyio
 import jwt
 from mcp.server.auth.provider import AccessToken
 
-from bagmcp_gateway.tokens.models import SCOPES, TokenRecord, same_hash, token_hash
-from bagmcp_gateway.tokens.store import TokenStore
+from bagmcp_gateway.access.tokens.models import SCOPES, TokenRecord, same_hash, token_hash
+from bagmcp_gateway.access.tokens.store import TokenStore
 
 CACHE_S = 5.0
 CACHE_ENTRIES = 10_000  # wrong tokens are cached too: a flood of them must not grow memory without end

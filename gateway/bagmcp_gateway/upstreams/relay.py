@@ -27,14 +27,15 @@ from mcp.shared.inbound import (
 from mcp.types import CLIENT_CAPABILITIES_META_KEY, CLIENT_INFO_META_KEY, INTERNAL_ERROR, PROTOCOL_VERSION_META_KEY
 from mcp_types.version import MODERN_PROTOCOL_VERSIONS
 
-from bagmcp_gateway.http_link import HttpLink
+from bagmcp_gateway.upstreams.http_link import HttpLink
 
 Progress = Callable[[float, float | None, str | None], Awaitable[None]]
+WireResult = dict[str, Any]  # a JSON-RPC result as it travels: what the upstream sent, or what the gateway makes
 PROTOCOL_VERSION = MODERN_PROTOCOL_VERSIONS[-1]
 CLIENT_INFO = {"name": "bagmcp-gateway", "version": "1"}
 
 
-def _decoded(body: bytes | str, *, upstream: str) -> dict[str, Any]:
+def _decoded(body: bytes | str, *, upstream: str) -> WireResult:
     try:
         message = json.loads(body)
     except ValueError as err:
@@ -44,7 +45,7 @@ def _decoded(body: bytes | str, *, upstream: str) -> dict[str, Any]:
     return message
 
 
-def _result(message: Mapping[str, Any], *, upstream: str) -> dict[str, Any]:
+def _result(message: Mapping[str, Any], *, upstream: str) -> WireResult:
     """The result of a JSON-RPC response, or its error raised as MCPError."""
     error = message.get("error")
     if isinstance(error, dict):
@@ -120,7 +121,7 @@ class JsonRpcRelay:
         meta: Mapping[str, Any],
         headers: Mapping[str, str] | None = None,
         progress: Progress | None = None,
-    ) -> dict[str, Any]:
+    ) -> WireResult:
         """The result of ``method`` with ``params`` (``meta`` added to the envelope, ``headers`` to the routing
         headers); MCPError for an error answer; OSError when the upstream cannot be reached."""
         rid, body, sent = self._request(method, params, meta)
@@ -133,7 +134,7 @@ class JsonRpcRelay:
                 raise MCPError(INTERNAL_ERROR, f"the {self._name} service answered HTTP {answer.status}")
             return _result(message, upstream=self._name)
 
-    async def _streamed(self, events: AsyncIterator[str], rid: int, progress: Progress | None) -> dict[str, Any]:
+    async def _streamed(self, events: AsyncIterator[str], rid: int, progress: Progress | None) -> WireResult:
         async for data in events:
             message = _decoded(data, upstream=self._name)
             if message.get("id") == rid:

@@ -20,9 +20,9 @@ from functools import lru_cache
 import mcp.types as types
 from mcp.server.auth.provider import AccessToken
 
-from bagmcp_gateway.lean import lean_tools
-from bagmcp_gateway.profiles import DEFAULT_PROFILES, NO_TOOLS, Profile
-from bagmcp_gateway.tokens.models import SCOPES
+from bagmcp_gateway.access.lean import lean_tools
+from bagmcp_gateway.access.profiles import DEFAULT_PROFILES, NO_TOOLS, Profile
+from bagmcp_gateway.access.tokens.models import SCOPES
 
 
 def _any(name: str, globs: Sequence[str]) -> bool:

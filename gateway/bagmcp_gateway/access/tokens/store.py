@@ -11,7 +11,7 @@ from typing import Protocol
 
 import redis
 
-from bagmcp_gateway.tokens.models import TokenRecord
+from bagmcp_gateway.access.tokens.models import TokenRecord
 from bagmcp_shared.errors import ArgumentError
 from bagmcp_shared.redis_errors import reachable
 

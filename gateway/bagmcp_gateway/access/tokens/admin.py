@@ -9,7 +9,7 @@ from collections.abc import Callable, Collection
 from fastapi import APIRouter, Response
 from pydantic import BaseModel, Field
 
-from bagmcp_gateway.tokens.models import (
+from bagmcp_gateway.access.tokens.models import (
     SCOPES,
     NewToken,
     Scope,
@@ -20,7 +20,7 @@ from bagmcp_gateway.tokens.models import (
     parse_duration_s,
     token_hash,
 )
-from bagmcp_gateway.tokens.store import TokenStore
+from bagmcp_gateway.access.tokens.store import TokenStore
 from bagmcp_shared.errors import ArgumentError, BagmcpError
 
 
