@@ -10,6 +10,7 @@ import secrets
 from collections.abc import Iterator
 from concurrent.futures import ProcessPoolExecutor
 from contextlib import ExitStack
+from dataclasses import replace
 from multiprocessing import get_context
 from pathlib import Path
 
@@ -23,7 +24,7 @@ from bagmcp_bag_store.ingest.ingest import Ingestor
 from bagmcp_bag_store.ingest.shelf import Shelf
 from bagmcp_shared import keys
 from bagmcp_shared.access import BagAccess, RangedBagFiles
-from bagmcp_shared.bags import open_bag
+from bagmcp_shared.bags import BagReader, BagSummary, open_bag
 from bagmcp_shared.catalog import BagRecord, MemoryCatalog
 from bagmcp_shared.errors import DamagedBagError, StorageError
 from bagmcp_shared.settings import RangeReads
@@ -113,8 +114,13 @@ def store(s3_server: S3Endpoint) -> S3Store:
 
 
 def shelve(store: S3Store, catalog: MemoryCatalog, bag: Path, work: Path, *, name: str = "padded") -> BagRecord:
-    """Store and ingest ``bag`` as the bag-store does (ingest reads its own whole copy, in ``work``)."""
-    record, _ = Shelf(catalog, store).register(bag, [bag.name], content_id([bag], directory=False), name=name, tags=[])
+    """Store and ingest ``bag`` (a file or a ROS 2 directory) as the bag-store does (ingest reads a whole
+    copy it fetches into ``work``/ingest-cache)."""
+    names = [bag.name]
+    if bag.is_dir():  # a recording's SQLite -shm/-wal side files are not part of the bag
+        names = sorted(p.name for p in bag.iterdir() if not p.name.endswith(("-shm", "-wal")))
+    sha = content_id([bag / n for n in names] if bag.is_dir() else [bag], directory=bag.is_dir())
+    record, _ = Shelf(catalog, store).register(bag, names, sha, name=name, tags=[])
     files = RangedBagFiles(store, work / "ingest-cache", max_bytes=1 << 30, reads=ROOMY)
     assert Ingestor(catalog, files, files, store).ingest(record.id) == "ready"
     ready = catalog.get(record.id)
@@ -158,8 +164,57 @@ def test_answers_by_range_equal_the_local_file_and_a_point_read_fetches_a_few_ch
     assert answers(access, record.id) == local_answers(local_bag)  # warm: every block from disk
     assert files.blocks.counters.fetched_bytes == fetched
     assert files.blocks.counters.hits > 0
+    assert not (tmp_path / "ingest-cache" / record.id).exists()  # ingest dropped the whole copy it read
     ingested_here = RangedBagFiles(store, tmp_path / "ingest-cache", max_bytes=1 << 30, reads=ROOMY)
-    assert ingested_here.reader_for(record)[0].is_file()  # the worker that ingested it reads its own copy
+    assert ingested_here.reader_for(record)[0] == Path("padded")  # the ingesting worker reads by range too
+
+
+def all_messages(reader: BagReader) -> Answer:
+    return [(m.connection.topic, m.log_time_ns, m.data) for m in reader.messages()]
+
+
+def summary_of(reader: BagReader) -> BagSummary:
+    return replace(reader.summary(), path="")  # the path names the local directory or the bag
+
+
+@pytest.mark.parametrize(
+    "relative", ["ros2_mcap/rosbag2_wbag_split", "ros2_mcap/replay_testing_cmd_vel", "ros2_mcap/rosbag2_cdr_test"]
+)
+def test_a_ros2_directory_of_mcap_files_is_read_by_range_and_ingest_keeps_no_whole_copy(
+    store: S3Store, corpus: Path, relative: str, tmp_path: Path
+) -> None:
+    local = corpus / relative
+    catalog = MemoryCatalog()
+    record = shelve(store, catalog, local, tmp_path, name="ros2")
+    assert record.layout == "directory"
+    assert not (tmp_path / "ingest-cache" / record.id).exists()  # ingest dropped the whole copy it read
+    files = RangedBagFiles(store, tmp_path / "service-cache", max_bytes=1 << 30, reads=ROOMY)
+    access = BagAccess(catalog, files)
+    assert files.reader_for(record)[0] == Path("ros2")  # not a local path: read by range
+    with access.open("ros2") as bag, open_bag(local) as embedded:
+        assert summary_of(bag.reader) == summary_of(embedded)
+        expected = all_messages(embedded)
+        assert all_messages(bag.reader) == expected
+        for topic in {topic for topic, _, _ in expected}:
+            times = [t for name, t, _ in expected if name == topic]
+            near = bag.nearest(topic, times[len(times) // 2])
+            assert near.log_time_ns == times[len(times) // 2]
+            assert (topic, near.log_time_ns, near.data) in expected
+    assert files.blocks.counters.fetched_bytes > 0
+    assert not (tmp_path / "service-cache" / record.id).exists()  # no whole copy where it is read either
+
+
+def test_a_ros2_sqlite3_directory_is_still_copied_whole_and_answers_right(
+    store: S3Store, corpus: Path, tmp_path: Path
+) -> None:
+    local = corpus / "ros2_db3/rosbag2_cdr_test"
+    catalog = MemoryCatalog()
+    record = shelve(store, catalog, local, tmp_path, name="db3")
+    files = RangedBagFiles(store, tmp_path / "service-cache", max_bytes=1 << 30, reads=ROOMY)
+    with BagAccess(catalog, files).open("db3") as bag, open_bag(local) as embedded:
+        assert all_messages(bag.reader) == all_messages(embedded)
+    assert (tmp_path / "service-cache" / record.id / "cdr_test_0.db3").is_file()  # SQLite reads a local file
+    assert files.blocks.counters.fetched_bytes == 0
 
 
 def test_a_bag_many_times_larger_than_the_cache_answers_right_and_the_cache_keeps_its_bound(

@@ -56,14 +56,23 @@ def changed(bag: str, what: str) -> DamagedBagError:
     )
 
 
+def _head(store: RangeStore, bag: str, key: str) -> ObjectInfo:
+    try:
+        return store.stat(key)
+    except ObjectNotFoundError as err:
+        missing = f"bag {bag} is missing from the object store ({key}); delete it and upload it again"
+        raise StorageError(missing) from err
+
+
+def sized_file(store: RangeStore, bag: str, key: str, etag: str) -> StoredFile:
+    """A file of a bag whose size the catalog does not record (a ROS 2 directory's files: the catalog has
+    their sum), as a HEAD finds it; the ETag, when the catalog recorded one, still pins the content."""
+    return StoredFile(bag, key, _head(store, bag, key).size, etag)
+
+
 def pinned_etag(store: RangeStore, stored: StoredFile) -> str:
     """The ETag every range read must carry: the catalog's, checked against a HEAD of the object."""
-    try:
-        found = store.stat(stored.key)
-    except ObjectNotFoundError as err:
-        raise StorageError(
-            f"bag {stored.bag} is missing from the object store ({stored.key}); delete it and upload it again"
-        ) from err
+    found = _head(store, stored.bag, stored.key)
     if found.size != stored.size:
         raise changed(stored.bag, f"{found.size} bytes, the catalog recorded {stored.size}")
     if stored.etag and found.etag and found.etag != stored.etag:
