@@ -204,6 +204,25 @@ def test_a_ros2_directory_of_mcap_files_is_read_by_range_and_ingest_keeps_no_who
     assert not (tmp_path / "service-cache" / record.id).exists()  # no whole copy where it is read either
 
 
+def test_a_changed_file_of_a_ros2_directory_is_an_error_naming_the_bag(
+    store: S3Store, corpus: Path, tmp_path: Path
+) -> None:
+    local = corpus / "ros2_mcap/rosbag2_wbag_split"
+    catalog = MemoryCatalog()
+    record = shelve(store, catalog, local, tmp_path, name="split")
+    altered = bytearray((local / "wbag_1.mcap").read_bytes())
+    altered[len(altered) // 2] ^= 0xFF
+    store.put_bytes(keys.bag_file(record.id, "wbag_1.mcap"), bytes(altered))
+    fresh = BagAccess(catalog, RangedBagFiles(store, tmp_path / "a", max_bytes=1 << 30, reads=ROOMY))
+    with pytest.raises(DamagedBagError, match=r"bag split changed in the object store .*ETag"), fresh.open("split"):
+        pass
+    store.put_bytes(keys.bag_file(record.id, "wbag_1.mcap"), bytes(altered[:-100]))
+    catalog.replace(record.model_copy(update={"etags": {}}))  # a bag stored before ETags were recorded
+    other = BagAccess(catalog, RangedBagFiles(store, tmp_path / "b", max_bytes=1 << 30, reads=ROOMY))
+    with pytest.raises(DamagedBagError, match=r"bag split changed .*bytes in all, the catalog"), other.open("split"):
+        pass
+
+
 def test_a_ros2_sqlite3_directory_is_still_copied_whole_and_answers_right(
     store: S3Store, corpus: Path, tmp_path: Path
 ) -> None:

@@ -18,7 +18,7 @@ from typing import BinaryIO, Protocol, cast
 from bagmcp_shared import keys
 from bagmcp_shared.access.blocks import BlockCache
 from bagmcp_shared.access.files import CachedBagFiles
-from bagmcp_shared.access.ranged import RangedFile, RangeStore, StoredFile, sized_file
+from bagmcp_shared.access.ranged import UNKNOWN_SIZE, RangedFile, RangeStore, StoredFile, changed
 from bagmcp_shared.bags import BagFormat, BagReader, open_directory_stream, open_stream
 from bagmcp_shared.catalog.models import BagRecord
 from bagmcp_shared.settings import RangeReads
@@ -58,18 +58,22 @@ class RangedBagFiles(CachedBagFiles):
 
     def _open_directory(self, record: BagRecord, label: Path) -> BagReader:
         """A ROS 2 directory of MCAP storage files: metadata.yaml read whole (a few KB, through the block
-        cache like the rest), each storage file opened by range (one HEAD for its size, one to pin it)."""
+        cache like the rest), each storage file opened by range (its HEAD gives the size the catalog lacks)."""
         metadata: bytes | None = None
         storage: dict[str, tuple[BinaryIO, int]] = {}
         try:
             for name in record.files:
-                key = keys.bag_file(record.id, name)
-                stored = sized_file(self._ranges, record.name, key, record.etags.get(name, ""))
+                stored = StoredFile(
+                    record.name, keys.bag_file(record.id, name), UNKNOWN_SIZE, record.etags.get(name, "")
+                )
+                file = self.open_file(stored)
                 if Path(name).name == METADATA:
-                    with self.open_file(stored) as meta:
-                        metadata = meta.read()
+                    with file:
+                        metadata = file.read()
                 else:
-                    storage[Path(name).name] = (cast(BinaryIO, self.open_file(stored)), stored.size)
+                    storage[Path(name).name] = (cast(BinaryIO, file), file.size)
+            if (found := len(metadata or b"") + sum(size for _, size in storage.values())) != record.size_bytes:
+                raise changed(record.name, f"{found} bytes in all, the catalog recorded {record.size_bytes}")
         except BaseException:
             for stream, _ in storage.values():
                 stream.close()
