@@ -13,10 +13,12 @@ from contextlib import ExitStack
 from dataclasses import replace
 from multiprocessing import get_context
 from pathlib import Path
+from typing import cast
 
 import pytest
 from mcap.writer import CompressionType, Writer
 from rosbags.rosbag1 import Writer as Ros1Writer
+from rosbags.rosbag2 import CompressionMode, StoragePlugin
 from rosbags.typesys import Stores, get_typestore
 
 from bagmcp_bag_store.ingest.content import content_id
@@ -29,6 +31,7 @@ from bagmcp_shared.catalog import BagRecord, MemoryCatalog
 from bagmcp_shared.errors import DamagedBagError, StorageError
 from bagmcp_shared.settings import RangeReads
 from bagmcp_shared.storage import S3Store
+from tests.fixtures.compressed_bags import CompressedKind, write_compressed, write_ros2_compressed
 from tests.fixtures.faults import weed_server
 from tests.fixtures.restartable import Restartable
 from tests.fixtures.servers import S3Endpoint, remove_weed_sockets
@@ -177,13 +180,31 @@ def summary_of(reader: BagReader) -> BagSummary:
     return replace(reader.summary(), path="")  # the path names the local directory or the bag
 
 
+def ros2_directory(kind: str, corpus: Path, work: Path) -> Path:
+    """A recorded ROS 2 directory of the corpus (``ros2_mcap/...``), or the scenario bag written as one."""
+    if kind.startswith("ros2_"):
+        return corpus / kind
+    work.mkdir(parents=True, exist_ok=True)
+    if kind == "mcap-zstd-message":
+        write_ros2_compressed(work / "scenario-message", StoragePlugin.MCAP, CompressionMode.MESSAGE)
+        return work / "scenario-message"
+    return write_compressed(cast(CompressedKind, kind), work)
+
+
 @pytest.mark.parametrize(
-    "relative", ["ros2_mcap/rosbag2_wbag_split", "ros2_mcap/replay_testing_cmd_vel", "ros2_mcap/rosbag2_cdr_test"]
+    "kind",
+    [
+        "ros2_mcap/rosbag2_wbag_split",  # five storage files listed in metadata.yaml
+        "ros2_mcap/replay_testing_cmd_vel",  # two storage files, no metadata.yaml
+        "ros2_mcap/rosbag2_cdr_test",
+        "mcap-zstd",  # zstd chunks
+        "mcap-zstd-message",  # compression_mode: message
+    ],
 )
 def test_a_ros2_directory_of_mcap_files_is_read_by_range_and_ingest_keeps_no_whole_copy(
-    store: S3Store, corpus: Path, relative: str, tmp_path: Path
+    store: S3Store, corpus: Path, kind: str, tmp_path: Path
 ) -> None:
-    local = corpus / relative
+    local = ros2_directory(kind, corpus, tmp_path / "written")
     catalog = MemoryCatalog()
     record = shelve(store, catalog, local, tmp_path, name="ros2")
     assert record.layout == "directory"
@@ -223,16 +244,17 @@ def test_a_changed_file_of_a_ros2_directory_is_an_error_naming_the_bag(
         pass
 
 
-def test_a_ros2_sqlite3_directory_is_still_copied_whole_and_answers_right(
-    store: S3Store, corpus: Path, tmp_path: Path
+@pytest.mark.parametrize("kind", ["ros2_db3/rosbag2_cdr_test", "mcap-zstd-file"])
+def test_sqlite3_and_zstd_file_directories_are_still_copied_whole_and_answer_right(
+    store: S3Store, corpus: Path, kind: str, tmp_path: Path
 ) -> None:
-    local = corpus / "ros2_db3/rosbag2_cdr_test"
+    local = ros2_directory(kind, corpus, tmp_path / "written")
     catalog = MemoryCatalog()
-    record = shelve(store, catalog, local, tmp_path, name="db3")
+    record = shelve(store, catalog, local, tmp_path, name="whole")
     files = RangedBagFiles(store, tmp_path / "service-cache", max_bytes=1 << 30, reads=ROOMY)
-    with BagAccess(catalog, files).open("db3") as bag, open_bag(local) as embedded:
+    with BagAccess(catalog, files).open("whole") as bag, open_bag(local) as embedded:
         assert all_messages(bag.reader) == all_messages(embedded)
-    assert (tmp_path / "service-cache" / record.id / "cdr_test_0.db3").is_file()  # SQLite reads a local file
+    assert (tmp_path / "service-cache" / record.id / record.files[-1]).is_file()  # opened by path
     assert files.blocks.counters.fetched_bytes == 0
 
 
