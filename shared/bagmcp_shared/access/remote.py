@@ -1,4 +1,5 @@
-"""Team mode's bag files with range reads: bare MCAP files and ROS 1 bags are read where they are stored.
+"""Team mode's bag files with range reads: bare MCAP files, ROS 1 bags and ROS 2 directories of MCAP
+storage files are read where they are stored.
 
 A point read of an MCAP bag fetches its header block, its footer and summary (chunk indexes) and the
 chunks that overlap the topic and window; of a ROS 1 bag, its header, the index at its end (connections
@@ -30,7 +31,7 @@ class RemoteStore(ObjectStore, RangeStore, Protocol):
 
 
 class RangedBagFiles(CachedBagFiles):
-    """``CachedBagFiles`` whose readers of bare MCAP files and ROS 1 bags read by range through ``blocks``."""
+    """``CachedBagFiles`` whose readers of ``ranged`` bags (MCAP, ROS 1, ROS 2 MCAP) read through ``blocks``."""
 
     def __init__(self, store: RemoteStore, cache_dir: Path, *, max_bytes: int, reads: RangeReads) -> None:
         super().__init__(store, cache_dir, max_bytes=max_bytes)
@@ -41,7 +42,7 @@ class RangedBagFiles(CachedBagFiles):
         )  # a dot name: the whole-copy cache neither counts nor evicts it
 
     def reader_for(self, record: BagRecord) -> tuple[Path, Callable[[], BagReader]]:
-        if not ranged(record) or self.has_copy(record):  # a worker that ingested the bag reads its copy
+        if not ranged(record) or self.has_copy(record):  # a process holding a whole copy (a download) reads it
             return super().reader_for(record)
         label = Path(record.name)
         if record.layout == "directory":
