@@ -109,8 +109,10 @@ def s3_of(endpoint: S3Endpoint, bucket: str) -> S3Store:
     )
 
 
-@pytest.fixture
+@pytest.fixture(scope="module")
 def store(s3_server: S3Endpoint) -> S3Store:
+    """One bucket for the module: the tests' weed holds 16 volumes and each bucket written takes one. Every
+    test stores its bags again first (``shelve``), so one that changed an object leaves it right again."""
     created = s3_of(s3_server, f"ranged-{secrets.token_hex(4)}")
     created.ensure_bucket()
     return created
@@ -223,6 +225,16 @@ def test_a_ros2_directory_of_mcap_files_is_read_by_range_and_ingest_keeps_no_who
             assert (topic, near.log_time_ns, near.data) in expected
     assert files.blocks.counters.fetched_bytes > 0
     assert not (tmp_path / "service-cache" / record.id).exists()  # no whole copy where it is read either
+
+
+def test_a_bag_whose_ingest_failed_leaves_no_whole_copy(store: S3Store, local_mcap: Path, tmp_path: Path) -> None:
+    cut = tmp_path / "cut.mcap"
+    cut.write_bytes(local_mcap.read_bytes()[: local_mcap.stat().st_size // 2])  # ends inside a chunk
+    catalog = MemoryCatalog()
+    record, _ = Shelf(catalog, store).register(cut, [cut.name], content_id([cut], directory=False), name="cut", tags=[])
+    files = RangedBagFiles(store, tmp_path / "ingest-cache", max_bytes=1 << 30, reads=ROOMY)
+    assert Ingestor(catalog, files, files, store).ingest(record.id) == "failed"
+    assert not (tmp_path / "ingest-cache" / record.id).exists()
 
 
 def test_a_changed_file_of_a_ros2_directory_is_an_error_naming_the_bag(
