@@ -18,9 +18,9 @@ from bagmcp_gateway.tokens.models import token_hash
 from bagmcp_gateway.upstreams import Upstream
 from bagmcp_kit.job_tools import build_jobs_server
 from bagmcp_kit.parts import ServicePart
+from bagmcp_kit.runtime.resources import Embedded, embedded_resources
 from bagmcp_lab.server.embedded import lab_in_process
 from bagmcp_plotting.embedded import embedded_part as plotting_part
-from bagmcp_shared.resources import Embedded, embedded_resources
 from bagmcp_shared.settings import HttpSettings
 
 

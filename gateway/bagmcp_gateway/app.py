@@ -34,9 +34,9 @@ from bagmcp_gateway.uploads import UploadGuard, UploadStalledError
 from bagmcp_gateway.upstreams import Upstream
 from bagmcp_kit.error_shape import UniformErrors
 from bagmcp_kit.http_errors import StatusTable
+from bagmcp_kit.runtime.resources import redis_client
 from bagmcp_kit.service_app import HOST_CHECK_IN_MIDDLEWARE, new_app
 from bagmcp_shared.redis_errors import answers
-from bagmcp_shared.resources import redis_client
 
 ADMIN_STATUSES: StatusTable = [(TokenNotFoundError, 404, "token_not_found")]
 UPLOAD_STATUSES: StatusTable = [(UploadStalledError, 408, "upload_stalled")]

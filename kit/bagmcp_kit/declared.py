@@ -2,7 +2,9 @@
 
 A ``Declared`` names the tool, its one params model (the arguments: their types, descriptions and bounds are
 the model's fields, in the order the tool lists them), its result model, annotations, the function doing the
-work and the one-line summary of a result. Long work also says how to tell small work (run inline, no job).
+work and the one-line summary of a result. Long work also says how to tell small work (run inline, no job):
+``small`` answers yes or no, or ``inline`` does small work itself and answers None for a job (when the
+estimate and the work share what they open: one opening of a bag, one plot id).
 From it the kit derives the MCP tool function (the signature the SDK reads, so the schemas are those of a
 hand-written signature), the job kind (``<service>.<job>``) and its registration bound to the service's
 resources, so adding a long-work tool is its declaration and its query function in one service folder.
@@ -52,6 +54,7 @@ class Declared(Generic[S, P, R]):
     annotations: ToolAnnotations = field(default_factory=lambda: READ_ONLY)
     long: bool = True
     small: Callable[[S, P], bool] | None = None
+    inline: Callable[[S, P], R | None] | None = None
     job: str | None = None
     view: View[S, P] | None = None
     attach: Callable[[S, R], list[ContentBlock]] | None = None
@@ -104,6 +107,7 @@ def _runner(service: ServiceTools[S], tool: Declared[S, P, R], deps: S, work: Lo
     ``work``, short work in a thread; then the view hook."""
     attach = None if tool.attach is None else (lambda result: tool.attach(deps, result))  # type: ignore[misc]
     small = None if tool.small is None else (lambda params: tool.small(deps, params))  # type: ignore[misc]
+    inline = None if tool.inline is None else (lambda params: tool.inline(deps, params))  # type: ignore[misc]
     kind = service.kind(tool)
 
     async def run(ctx: Context, arguments: dict[str, object]) -> CallToolResult:
@@ -111,7 +115,7 @@ def _runner(service: ServiceTools[S], tool: Declared[S, P, R], deps: S, work: Lo
             given = tool.given(ctx, deps) if tool.given is not None else {}
             typed = params_of(tool.params, **{**arguments, **given})
         if tool.long:
-            done = await work.run(ctx, kind, typed, tool.summary, small=small, attach=attach)
+            done = await work.run(ctx, kind, typed, tool.summary, small=small, inline=inline, attach=attach)
         else:
             done = await anyio.to_thread.run_sync(_short, tool, deps, typed, attach)
         return done if tool.view is None else await tool.view(ctx, deps, typed, done)

@@ -41,22 +41,37 @@ class LongWork:
         summarize: Callable[[R], str],
         *,
         small: Callable[[P], bool] | None = None,
+        inline: Callable[[P], R | None] | None = None,
         attach: Attach[R] | None = None,
     ) -> CallToolResult:
         """The tool's answer: ``{"result": ...}`` when the work is done in time, else ``{"job": ...}``.
 
-        ``small`` (run in a thread) says whether the work is quick enough to do inline, without a job;
+        ``small`` (run in a thread) says whether the work is quick enough to do inline, without a job, which
+        then runs through the registry; ``inline`` instead does both in one go, answering the result when the
+        work is small and None for a job, for work whose estimate and run share what they open;
         ``attach`` adds content for a finished result, such as its image (in the thread that builds the answer)."""
-        with tool_errors():
-            inline = small is not None and await anyio.to_thread.run_sync(small, params)
-        if inline:
-            with tool_errors():
-                raw = await anyio.to_thread.run_sync(self._registry.run, kind.name, kind.dump(params), Unreported())
+        raw = await self._now(kind, params, small, inline)
+        if raw is not None:
             return await self._finished(kind, raw, summarize, attach)
         job = await self.start(ctx, kind, params)
         if job.state == "succeeded" and job.result is not None:
             return await self._finished(kind, job.result, summarize, attach)
         return self._unfinished(job)
+
+    async def _now(
+        self,
+        kind: JobKind[P, R],
+        params: P,
+        small: Callable[[P], bool] | None,
+        inline: Callable[[P], R | None] | None,
+    ) -> object | None:
+        """The result of work small enough to do now, in a worker thread; None when it needs a job."""
+        with tool_errors():
+            if inline is not None:
+                return await anyio.to_thread.run_sync(inline, params)
+            if small is not None and await anyio.to_thread.run_sync(small, params):
+                return await anyio.to_thread.run_sync(self._registry.run, kind.name, kind.dump(params), Unreported())
+        return None
 
     async def start(self, ctx: Context, kind: JobKind[P, R], params: P) -> Job:
         """Queue the job and wait for it up to the budget, sending progress notifications."""
@@ -89,7 +104,7 @@ class LongWork:
         matches of whole messages: about 16 ms) would hold up every other call on the event loop."""
 
         def build() -> CallToolResult:
-            result = kind.result.model_validate(raw)
+            result = raw if isinstance(raw, kind.result) else kind.result.model_validate(raw)  # inline: as it is
             with tool_errors():
                 extra = attach(result) if attach is not None else []
             return answer(LongAnswer[R](result=result), summarize(result), extra=extra, omit_none=True)

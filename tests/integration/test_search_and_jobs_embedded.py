@@ -13,8 +13,8 @@ from bagmcp_bag_store.embedded import start_embedded
 from bagmcp_bag_store.filtering import FilterParams, filter_bag
 from bagmcp_bag_store.query.search import search_messages
 from bagmcp_bag_store.query.search_params import SearchParams
+from bagmcp_kit.runtime.resources import embedded_resources
 from bagmcp_shared.jobs import Unreported
-from bagmcp_shared.resources import embedded_resources
 from tests.checks.search_checks import (
     check_cancel_stops_a_running_job,
     check_search,

@@ -6,9 +6,9 @@ from fastapi import FastAPI
 
 from bagmcp_analysis.job_kinds import QUEUE
 from bagmcp_analysis.wiring import build_analysis
+from bagmcp_kit.runtime.resources import team_resources
 from bagmcp_kit.server import Guard
 from bagmcp_kit.service_app import create_service_app
-from bagmcp_shared.resources import team_resources
 from bagmcp_shared.settings import ServiceSettings
 
 

@@ -5,8 +5,8 @@ from __future__ import annotations
 from bagmcp_analysis.job_kinds import RUN_JOB
 from bagmcp_analysis.wiring import build_analysis
 from bagmcp_kit.parts import ServicePart
+from bagmcp_kit.runtime.resources import Embedded
 from bagmcp_shared.jobs import run_job
-from bagmcp_shared.resources import Embedded
 
 
 def embedded_part(embedded: Embedded) -> ServicePart:

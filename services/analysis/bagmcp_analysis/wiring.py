@@ -6,10 +6,10 @@ from mcp.server.mcpserver import MCPServer
 
 from bagmcp_analysis.tools import ANALYSIS, build_server
 from bagmcp_kit.longwork import LongWork
+from bagmcp_kit.runtime.resources import Resources
 from bagmcp_kit.server import Guard
 from bagmcp_shared.access import BagAccess
 from bagmcp_shared.jobs import JobRegistry
-from bagmcp_shared.resources import Resources
 
 
 def build_registry(access: BagAccess) -> JobRegistry:

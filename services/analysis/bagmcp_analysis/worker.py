@@ -5,6 +5,6 @@ from __future__ import annotations
 
 from bagmcp_analysis.job_kinds import RUN_JOB
 from bagmcp_analysis.wiring import build_registry
-from bagmcp_shared.jobs.worker import job_worker
+from bagmcp_kit.runtime.worker import job_worker
 
 app, _resources = job_worker(RUN_JOB, lambda res: build_registry(res.access))

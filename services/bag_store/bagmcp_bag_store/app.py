@@ -10,9 +10,9 @@ from bagmcp_bag_store.ingest.rebuild import RESTORE_WAIT_S, restore_lost_catalog
 from bagmcp_bag_store.job_kinds import QUEUE
 from bagmcp_bag_store.settings import BagStoreSettings
 from bagmcp_bag_store.wiring import build_bag_store, ingest_queue
+from bagmcp_kit.runtime.resources import team_resources
 from bagmcp_kit.server import Guard
 from bagmcp_kit.service_app import create_service_app
-from bagmcp_shared.resources import team_resources
 from bagmcp_shared.storage import S3Store
 
 

@@ -12,8 +12,8 @@ from bagmcp_bag_store.job_kinds import INGEST, RUN_JOB
 from bagmcp_bag_store.settings import QueryLimits, UploadSettings
 from bagmcp_bag_store.wiring import BagStore, build_bag_store
 from bagmcp_kit.parts import ServicePart
+from bagmcp_kit.runtime.resources import Embedded
 from bagmcp_shared.jobs import run_job
-from bagmcp_shared.resources import Embedded
 
 log = logging.getLogger(__name__)
 

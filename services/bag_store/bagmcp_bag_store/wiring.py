@@ -19,9 +19,9 @@ from bagmcp_bag_store.settings import QueryLimits, UploadSettings
 from bagmcp_bag_store.tools import BAG_STORE, build_server
 from bagmcp_bag_store.tools.store import Store
 from bagmcp_kit.longwork import LongWork
+from bagmcp_kit.runtime.resources import Resources
 from bagmcp_kit.server import Guard
 from bagmcp_shared.jobs import JobRegistry
-from bagmcp_shared.resources import Resources
 
 
 @dataclass(frozen=True)

@@ -10,8 +10,8 @@ from bagmcp_bag_store.job_kinds import RUN_JOB
 from bagmcp_bag_store.settings import QueryLimits
 from bagmcp_bag_store.tasks import register_ingest_task
 from bagmcp_bag_store.wiring import BagStoreWork, build_work
-from bagmcp_shared.jobs.worker import job_worker
-from bagmcp_shared.resources import Resources
+from bagmcp_kit.runtime.resources import Resources
+from bagmcp_kit.runtime.worker import job_worker
 from bagmcp_shared.settings import Env
 
 

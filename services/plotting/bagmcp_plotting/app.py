@@ -4,12 +4,12 @@ from __future__ import annotations
 
 from fastapi import FastAPI
 
+from bagmcp_kit.runtime.resources import team_resources
 from bagmcp_kit.server import Guard
 from bagmcp_kit.service_app import create_service_app
 from bagmcp_plotting.job_kinds import QUEUE
 from bagmcp_plotting.settings import PlottingSettings
 from bagmcp_plotting.wiring import build_plotting
-from bagmcp_shared.resources import team_resources
 
 
 def create_app(settings: PlottingSettings) -> FastAPI:

@@ -4,10 +4,10 @@ artifacts in the data directory."""
 from __future__ import annotations
 
 from bagmcp_kit.parts import ServicePart
+from bagmcp_kit.runtime.resources import Embedded
 from bagmcp_plotting.job_kinds import RUN_JOB
 from bagmcp_plotting.wiring import build_plotting
 from bagmcp_shared.jobs import run_job
-from bagmcp_shared.resources import Embedded
 
 
 def embedded_part(embedded: Embedded, *, artifact_base_url: str = "") -> ServicePart:

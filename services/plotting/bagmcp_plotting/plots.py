@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import struct
 from collections.abc import Callable
-from typing import Annotated, Literal
+from typing import Annotated, Literal, TypeVar
 
 import numpy as np
 from pydantic import BaseModel, ConfigDict, Field
@@ -18,7 +18,7 @@ from bagmcp_plotting.positions import motion_start, positions
 from bagmcp_plotting.reports import Artifact, PlotReport, SeriesOut
 from bagmcp_shared.access import BagAccess, OpenBag
 from bagmcp_shared.errors import ArgumentError
-from bagmcp_shared.jobs import Progress, spans
+from bagmcp_shared.jobs import Progress, Unreported, spans
 from bagmcp_shared.laser_ranges import laser_ranges
 from bagmcp_shared.topics import SCAN, choose_lidar_topic, choose_pose_topic, is_fix
 from bagmcp_shared.units import unit_of
@@ -101,6 +101,10 @@ def _window_title(ob: OpenBag, lo: int, hi: int) -> str:
     return f"{ob.name}, {(lo - ob.start_ns) / 1e9:.1f}-{(hi - ob.start_ns) / 1e9:.1f} s"
 
 
+P = TypeVar("P", bound=BaseModel)
+PlotDraw = Callable[[P, Progress, str | None], PlotReport]
+
+
 class Plotter:
     def __init__(self, access: BagAccess, artifacts: Artifacts) -> None:
         self._access = access
@@ -113,13 +117,29 @@ class Plotter:
         )
         final = report.model_copy(update={"artifact": artifact})
         self._artifacts.save(key, png, final)
-        return final
+        return final.with_png(png)
 
-    def _plot(self, plot: str, params: BaseModel, bags: list[str], make: Callable[[str], PlotReport]) -> PlotReport:
+    def _plot(
+        self, plot: str, params: BaseModel, bags: list[str], make: Callable[[str], PlotReport], key: str | None
+    ) -> PlotReport:
+        """The stored plot, or ``make`` it; ``key``: the id of a plot the caller already found not stored."""
+        if key is not None:
+            return make(key)
+        found = plot_id(self._access, plot, params, bags)
+        return self._artifacts.cached(found, lambda: make(found))
+
+    def now(
+        self, draw: PlotDraw[P], plot: str, params: P, bags: list[str], quick: Callable[[P], bool]
+    ) -> PlotReport | None:
+        """The plot answered while the caller waits, when it is stored or ``quick`` to draw; None for a job.
+        Its id (a catalog read per bag and a hash) is computed once, and its stored report looked up once."""
         key = plot_id(self._access, plot, params, bags)
-        return self._artifacts.cached(key, lambda: make(key))
+        stored = self._artifacts.find(key)
+        if stored is not None:
+            return stored
+        return draw(params, Unreported(), key) if quick(params) else None
 
-    def timeseries(self, params: TimeseriesParams, progress: Progress) -> PlotReport:
+    def timeseries(self, params: TimeseriesParams, progress: Progress, key: str | None = None) -> PlotReport:
         def make(key: str) -> PlotReport:
             with self._access.open(params.bag) as ob:
                 lo, hi = ob.window(params.start, params.end)
@@ -138,9 +158,9 @@ class Plotter:
                 )
                 return self._store(key, png, report)
 
-        return self._plot(TIMESERIES, params, [params.bag], make)
+        return self._plot(TIMESERIES, params, [params.bag], make, key)
 
-    def xy(self, params: XYParams, progress: Progress) -> PlotReport:
+    def xy(self, params: XYParams, progress: Progress, key: str | None = None) -> PlotReport:
         def make(key: str) -> PlotReport:
             with self._access.open(params.bag) as ob:
                 lo, hi = ob.window(params.start, params.end)
@@ -170,7 +190,7 @@ class Plotter:
                 )
                 return self._store(key, png, report)
 
-        return self._plot(XY, params, [params.bag], make)
+        return self._plot(XY, params, [params.bag], make, key)
 
     def xy_series(
         self, ob: OpenBag, params: XYParams, lo: int, hi: int, progress: Progress
@@ -188,7 +208,7 @@ class Plotter:
         gps = ["GPS fixes as metres east and north of the first valid fix"] if is_fix(msgtype) else []
         return x, y, [chosen, *gps]
 
-    def scan(self, params: ScanPlotParams, progress: Progress) -> PlotReport:
+    def scan(self, params: ScanPlotParams, progress: Progress, key: str | None = None) -> PlotReport:
         def make(key: str) -> PlotReport:
             with self._access.open(params.bag) as ob:
                 topic, msgtype = choose_lidar_topic(ob, params.topic)
@@ -224,9 +244,9 @@ class Plotter:
                 )
                 return self._store(key, png, report)
 
-        return self._plot(SCAN_PLOT, params, [params.bag], make)
+        return self._plot(SCAN_PLOT, params, [params.bag], make, key)
 
-    def histogram(self, params: HistogramParams, progress: Progress) -> PlotReport:
+    def histogram(self, params: HistogramParams, progress: Progress, key: str | None = None) -> PlotReport:
         def make(key: str) -> PlotReport:
             with self._access.open(params.bag) as ob:
                 lo, hi = ob.window(params.start, params.end)
@@ -246,9 +266,9 @@ class Plotter:
                 )
                 return self._store(key, png, report)
 
-        return self._plot(HISTOGRAM, params, [params.bag], make)
+        return self._plot(HISTOGRAM, params, [params.bag], make, key)
 
-    def compare(self, params: CompareParams, progress: Progress) -> PlotReport:
+    def compare(self, params: CompareParams, progress: Progress, key: str | None = None) -> PlotReport:
         def make(key: str) -> PlotReport:
             lines, summaries, notes, names = [], [], [], []
             first_start = first_end = None
@@ -282,7 +302,7 @@ class Plotter:
             )
             return self._store(key, png, report)
 
-        return self._plot(COMPARE, params, params.bags, make)
+        return self._plot(COMPARE, params, params.bags, make, key)
 
 
 _PENDING = Artifact(id="", url="", mime_type="image/png", bytes=0, width=0, height=0)

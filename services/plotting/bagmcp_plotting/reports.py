@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from pydantic import BaseModel, Field
+from pydantic import BaseModel, Field, PrivateAttr
 
 from bagmcp_shared.timebase import Instant
 
@@ -32,3 +32,15 @@ class PlotReport(BaseModel):
     series: list[SeriesOut]
     artifact: Artifact
     notes: list[str]
+    _png: bytes | None = PrivateAttr(default=None)
+
+    @property
+    def png(self) -> bytes | None:
+        """The image of a plot just drawn in this process (None once the report went through JSON): the
+        answer shows these bytes rather than reading back from storage the object it has just written."""
+        return self._png
+
+    def with_png(self, png: bytes) -> PlotReport:
+        drawn = self.model_copy()
+        drawn._png = png
+        return drawn

@@ -6,13 +6,13 @@ from fastapi import APIRouter
 from mcp.server.mcpserver import MCPServer
 
 from bagmcp_kit.longwork import LongWork
+from bagmcp_kit.runtime.resources import Resources
 from bagmcp_kit.server import Guard
 from bagmcp_plotting.artifacts import Artifacts, build_artifact_router
 from bagmcp_plotting.tools import PLOTTING, build_server
 from bagmcp_plotting.tools.plot_tools import Plotting
 from bagmcp_shared.access import BagAccess
 from bagmcp_shared.jobs import JobRegistry
-from bagmcp_shared.resources import Resources
 
 
 def build_registry(access: BagAccess, artifacts: Artifacts) -> JobRegistry:

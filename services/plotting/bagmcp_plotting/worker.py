@@ -3,11 +3,11 @@ plotting queue). Settings come from BAGMCP_*; resources are built on the first t
 
 from __future__ import annotations
 
+from bagmcp_kit.runtime.worker import job_worker
 from bagmcp_plotting.artifacts import Artifacts
 from bagmcp_plotting.job_kinds import RUN_JOB
 from bagmcp_plotting.settings import PlottingSettings
 from bagmcp_plotting.wiring import build_registry
-from bagmcp_shared.jobs.worker import job_worker
 
 _base_url = PlottingSettings.from_env().artifact_base_url
 app, _resources = job_worker(RUN_JOB, lambda res: build_registry(res.access, Artifacts(res.store, base_url=_base_url)))

@@ -8,8 +8,8 @@ import pytest
 
 from bagmcp_cli.settings import EmbeddedSettings
 from bagmcp_gateway.ratelimit import Limit
+from bagmcp_kit.runtime.resources import embedded_resources
 from bagmcp_shared import budget
-from bagmcp_shared.resources import embedded_resources
 from bagmcp_shared.settings import Env, InputBudget, OpenBagLimits
 
 

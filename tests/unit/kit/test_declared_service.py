@@ -21,9 +21,9 @@ from bagmcp_kit.arguments import WRITES
 from bagmcp_kit.declared import GIVEN, Declared, ServiceTools
 from bagmcp_kit.job_tools import build_jobs_server
 from bagmcp_kit.longwork import LongWork
+from bagmcp_kit.runtime.resources import Embedded, embedded_resources
 from bagmcp_kit.server import new_server
 from bagmcp_shared.jobs import Progress, run_job
-from bagmcp_shared.resources import Embedded, embedded_resources
 from bagmcp_shared.tasks import TaskRef
 from tests.fixtures.mcp_client import JsonObject, call, call_error
 

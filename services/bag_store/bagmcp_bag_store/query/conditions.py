@@ -1,25 +1,26 @@
-"""search_messages conditions: parsing the caller's value for each condition, and bounded regexes.
+"""search_messages conditions, typed: the caller's condition and value are parsed once, into one type per
+kind of test, and each type tests or masks on its own.
 
-Regexes run on RE2 (the ``google-re2`` wheel), not on the ``regex`` package: ``regex`` expands counted
-repeats when it compiles, about 270 bytes per copy, so ``a{1000000000}`` (13 characters) grew a server to
-21.9 GB and ``(?:a{1000}){1000}`` costs 262 MB. RE2 refuses a repeat count over 1000 (nested ones
-multiply), holds a compiled pattern and its match cache to ``max_mem`` and matches in time linear in the
-text, so no pattern can take a process's memory or hang a match; what it gives up is lookaround and
-backreferences, which search_messages does not need. Checking ``regex`` patterns by hand instead would be
-a parser of its whole syntax (comments, verbose mode, nested sets) kept in step with the package.
+A condition reads the topic in one of three ways, which it asks of a ``Scan`` (query/search_scan.py): a
+column of numbers it masks (``Compare``, ``Between``, ``Extreme``), x/y positions it measures
+(``NearPosition``), or each message decoded, which it judges (``Text``, ``FieldExists``). The first two are
+answered from the columnar index when the topic has one, so ``columnar`` also tells a quick search.
 """
 
 from __future__ import annotations
 
-import re
-import time
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass
-from typing import Literal, get_args
+from typing import ClassVar, Literal, Protocol, TypeVar, get_args
 
-import re2  # type: ignore[import-untyped]  # google-re2 ships no type hints
+import numpy as np
+import numpy.typing as npt
 from pydantic import JsonValue
 
-from bagmcp_shared.errors import ArgumentError
+from bagmcp_bag_store.query.bounded_regex import BoundedRegex
+from bagmcp_shared.errors import ArgumentError, MessagePathError
+from bagmcp_shared.jsonify import to_json
+from bagmcp_shared.paths import Step, extract
 
 Condition = Literal[
     "contains",
@@ -35,22 +36,156 @@ Condition = Literal[
     "field_exists",
 ]
 CONDITIONS: tuple[str, ...] = get_args(Condition)
-TEXT_CONDITIONS = ("contains", "regex")
-NUMERIC_CONDITIONS = ("greater_than", "less_than", "between", "max", "min")
-EXTREME_CONDITIONS = ("max", "min")  # the messages holding the window's largest or smallest value; no value
-MAX_PATTERN = 256
-REGEX_MEMORY_BYTES = 8 << 20  # RE2's own default: a compiled pattern and its match cache
-MAX_REPEAT = 1000  # RE2's own limit on a counted repeat
-_COUNTED_REPEAT = re.compile(r"\{(\d+)(?:,(\d*))?\}")
-_RE2_LIMITS = f"RE2 allows repeat counts up to {MAX_REPEAT}, nested ones multiplied; use + or * instead"
-REGEX_BUDGET_S = 5.0
+SHOWN_TEXT = 300  # characters of a matching text shown in a match
+
+Numbers = npt.NDArray[np.float64]
+Mask = npt.NDArray[np.bool_]
+Steps = tuple[Step, ...]
+T_co = TypeVar("T_co", covariant=True)
+
+
+class Masking(Protocol):
+    def mask(self, values: Numbers) -> Mask: ...
+
+
+class Judging(Protocol):
+    def judge(self, message: object, steps: Steps | None) -> tuple[bool, JsonValue]: ...
+
+
+class Scan(Protocol[T_co]):
+    """What a condition asks of the topic it searches (query/search_scan.py reads the bag)."""
+
+    def numbers(self, condition: Masking) -> T_co: ...
+
+    def positions(self, near: NearPosition) -> T_co: ...
+
+    def messages(self, condition: Judging) -> T_co: ...
+
+
+T = TypeVar("T")
+
+
+@dataclass(frozen=True)
+class Compare:
+    """greater_than, less_than, equals or not_equals a number (equal within 1e-9)."""
+
+    test: Callable[[Numbers, float], Mask]
+    number: float
+    columnar: ClassVar[bool] = True
+
+    def mask(self, values: Numbers) -> Mask:
+        return self.test(values, self.number)
+
+    def find(self, scan: Scan[T]) -> T:
+        return scan.numbers(self)
+
+
+@dataclass(frozen=True)
+class Between:
+    """low <= value <= high."""
+
+    low: float
+    high: float
+    columnar: ClassVar[bool] = True
+
+    def mask(self, values: Numbers) -> Mask:
+        return (values >= self.low) & (values <= self.high)
+
+    def find(self, scan: Scan[T]) -> T:
+        return scan.numbers(self)
+
+
+@dataclass(frozen=True)
+class Extreme:
+    """max or min: the messages holding the window's largest (or smallest) finite value; takes no value."""
+
+    pick: Callable[[Numbers], np.float64]
+    columnar: ClassVar[bool] = True
+
+    def mask(self, values: Numbers) -> Mask:
+        finite = np.isfinite(values)
+        if not finite.any():
+            return finite
+        mask: Mask = finite & (values == self.pick(values[finite]))
+        return mask
+
+    def find(self, scan: Scan[T]) -> T:
+        return scan.numbers(self)
 
 
 @dataclass(frozen=True)
 class NearPosition:
+    """Within ``radius`` metres of (x, y) in the plane."""
+
     x: float
     y: float
     radius: float
+    columnar: ClassVar[bool] = True
+
+    def distances(self, xs: Numbers, ys: Numbers) -> Numbers:
+        return np.hypot(xs - self.x, ys - self.y)
+
+    def find(self, scan: Scan[T]) -> T:
+        return scan.positions(self)
+
+
+@dataclass(frozen=True)
+class Text:
+    """contains (any case), regex, or a string equals / not_equals, on the field or every text in a message.
+    A message without the field does not match."""
+
+    test: Callable[[str], bool]
+    columnar: ClassVar[bool] = False
+
+    def judge(self, message: object, steps: Steps | None) -> tuple[bool, JsonValue]:
+        if steps is None:
+            texts: Iterator[str] = _texts(message)
+        else:
+            try:
+                texts = iter([str(extract(message, steps))])
+            except MessagePathError:
+                return False, None
+        found = next((text for text in texts if self.test(text)), None)
+        return found is not None, (found or "")[:SHOWN_TEXT]
+
+    def find(self, scan: Scan[T]) -> T:
+        return scan.messages(self)
+
+
+@dataclass(frozen=True)
+class FieldExists:
+    """The message has the field, and it is not empty (an empty string, list or array)."""
+
+    columnar: ClassVar[bool] = False
+
+    def judge(self, message: object, steps: Steps | None) -> tuple[bool, JsonValue]:
+        try:
+            picked = extract(message, steps or ())
+        except MessagePathError:
+            return False, None
+        return _present(picked), to_json(picked, max_items=8, max_text=SHOWN_TEXT)
+
+    def find(self, scan: Scan[T]) -> T:
+        return scan.messages(self)
+
+
+SearchCondition = Compare | Between | Extreme | NearPosition | Text | FieldExists
+
+
+def _texts(value: object) -> Iterator[str]:
+    if isinstance(value, str):
+        yield value
+    elif isinstance(value, list | tuple):
+        for item in value:
+            yield from _texts(item)
+    elif hasattr(value, "__dataclass_fields__"):
+        for name in value.__dataclass_fields__:
+            if not name.startswith("__"):
+                yield from _texts(getattr(value, name))
+
+
+def _present(value: object) -> bool:
+    return not (isinstance(value, str | list | tuple | bytes | np.ndarray) and len(value) == 0)
 
 
 def _number(value: JsonValue, what: str) -> float:
@@ -88,66 +223,84 @@ def parse_between(value: JsonValue) -> tuple[float, float]:
     return low, high
 
 
-def check_value(condition: str, value: JsonValue) -> None:
-    """Refuse a value of the wrong type for ``condition`` with a message saying what is accepted."""
-    if condition not in CONDITIONS:
-        raise ArgumentError(f"unknown condition {condition!r}; use one of: {', '.join(CONDITIONS)}")
-    if condition in TEXT_CONDITIONS and not isinstance(value, str):
+def _equal(values: Numbers, number: float) -> Mask:
+    return np.isclose(values, number, rtol=0.0, atol=1e-9)
+
+
+_NUMBER_TESTS: dict[str, Callable[[Numbers, float], Mask]] = {
+    "greater_than": lambda values, number: values > number,
+    "less_than": lambda values, number: values < number,
+    "equals": _equal,
+    "not_equals": lambda values, number: ~_equal(values, number),
+}
+_TEXT_TESTS: dict[str, Callable[[str], Callable[[str], bool]]] = {
+    "contains": lambda wanted: lambda text: wanted.casefold() in text.casefold(),
+    "regex": lambda wanted: BoundedRegex(wanted).search,
+    "equals": lambda wanted: lambda text: text == wanted,
+    "not_equals": lambda wanted: lambda text: text != wanted,
+}
+
+
+def _text(condition: str, value: JsonValue, field: str | None) -> SearchCondition:
+    if not isinstance(value, str):
         raise ArgumentError(f"{condition} takes a string value, got {value!r}")
-    if condition in ("greater_than", "less_than"):
-        _number(value, condition)
-    if condition in ("equals", "not_equals") and not isinstance(value, str | int | float | bool):
-        raise ArgumentError(f"{condition} takes a number, string or boolean, got {value!r}")
-    if condition == "between":
-        parse_between(value)
-    if condition in EXTREME_CONDITIONS and value is not None:
-        raise ArgumentError(f"{condition} finds the {condition}imum itself; leave out `value`")
-    if condition == "near_position":
-        parse_near(value)
+    return Text(_TEXT_TESTS[condition](value))
 
 
-def _re2_options() -> object:
-    options = re2.Options()
-    options.max_mem = REGEX_MEMORY_BYTES
-    options.log_errors = False  # a caller's bad pattern is their error, not a line in the server log
-    return options
+def _equality(condition: str, value: JsonValue, field: str | None) -> SearchCondition:
+    """A number compares a column of numbers; a string or boolean compares each message's text."""
+    if isinstance(value, int | float) and not isinstance(value, bool):
+        return Compare(_NUMBER_TESTS[condition], float(value))
+    if isinstance(value, str | bool):
+        return Text(_TEXT_TESTS[condition](str(value)))
+    raise ArgumentError(f"{condition} takes a number, string or boolean, got {value!r}")
 
 
-class BoundedRegex:
-    """A pattern compiled by RE2 within ``REGEX_MEMORY_BYTES``, with a total time budget over all matches."""
-
-    def __init__(self, pattern: str) -> None:
-        if len(pattern) > MAX_PATTERN:
-            raise ArgumentError(f"regex patterns are limited to {MAX_PATTERN} characters")
-        _refuse_large_counts(pattern)
-        try:
-            self._compiled = re2.compile(pattern, _re2_options())
-        except re2.error as err:
-            raise ArgumentError(f"invalid regex {pattern!r}: {_reason(err)}") from err
-        self._spent = 0.0
-
-    def search(self, text: str) -> bool:
-        began = time.monotonic()
-        found = self._compiled.search(text) is not None
-        self._spent += time.monotonic() - began
-        if self._spent > REGEX_BUDGET_S:
-            raise ArgumentError(f"the regex used its {REGEX_BUDGET_S:.0f} s budget; narrow the time window")
-        return found
+def _order(condition: str, value: JsonValue, field: str | None) -> SearchCondition:
+    return Compare(_NUMBER_TESTS[condition], _number(value, condition))
 
 
-def _refuse_large_counts(pattern: str) -> None:
-    """RE2 reads a repeat count it cannot take (``a{1000000000}``) as literal text, which would quietly match
-    nothing; say so instead."""
-    for found in _COUNTED_REPEAT.finditer(pattern):
-        if any(int(number) > MAX_REPEAT for number in found.groups() if number):
-            raise ArgumentError(f"invalid regex {pattern!r}: the repeat {found.group(0)} is too large ({_RE2_LIMITS})")
+def _between(condition: str, value: JsonValue, field: str | None) -> SearchCondition:
+    return Between(*parse_between(value))
 
 
-def _reason(err: Exception) -> str:
-    """RE2's reason in words, with what to do about the two a hostile or ambitious pattern meets."""
-    reason = err.args[0].decode("utf-8", "replace") if err.args and isinstance(err.args[0], bytes) else str(err)
-    if "repetition size" in reason or "too large" in reason:
-        return f"{reason} ({_RE2_LIMITS})"
-    if "perl operator" in reason or "escape sequence" in reason:
-        return f"{reason} (RE2 syntax: no lookaround or backreferences)"
-    return reason
+def _extreme(pick: Callable[[Numbers], np.float64]) -> Callable[[str, JsonValue, str | None], SearchCondition]:
+    def parse(condition: str, value: JsonValue, field: str | None) -> SearchCondition:
+        if value is not None:
+            raise ArgumentError(f"{condition} finds the {condition}imum itself; leave out `value`")
+        return Extreme(pick)
+
+    return parse
+
+
+def _near(condition: str, value: JsonValue, field: str | None) -> SearchCondition:
+    return parse_near(value)
+
+
+def _exists(condition: str, value: JsonValue, field: str | None) -> SearchCondition:
+    if field is None:
+        raise ArgumentError("field_exists needs `field`, the message path to look for")
+    return FieldExists()
+
+
+_PARSERS: dict[str, Callable[[str, JsonValue, str | None], SearchCondition]] = {
+    "contains": _text,
+    "regex": _text,
+    "equals": _equality,
+    "not_equals": _equality,
+    "greater_than": _order,
+    "less_than": _order,
+    "between": _between,
+    "max": _extreme(np.max),
+    "min": _extreme(np.min),
+    "near_position": _near,
+    "field_exists": _exists,
+}
+
+
+def parse_condition(condition: str, value: JsonValue, field: str | None = None) -> SearchCondition:
+    """The typed condition, or a refusal that says which values ``condition`` accepts."""
+    parse = _PARSERS.get(condition)
+    if parse is None:
+        raise ArgumentError(f"unknown condition {condition!r}; use one of: {', '.join(CONDITIONS)}")
+    return parse(condition, value, field)

@@ -4,7 +4,7 @@ else a job); their params models live beside their work (query/search_params.py,
 from __future__ import annotations
 
 from bagmcp_bag_store.filtering import FilterParams, filter_bag
-from bagmcp_bag_store.query.search import is_small, search_messages
+from bagmcp_bag_store.query.search import search_if_small, search_messages
 from bagmcp_bag_store.query.search_params import SearchParams
 from bagmcp_bag_store.results import FilterResult, SearchResult
 from bagmcp_bag_store.tools.store import Store
@@ -47,7 +47,7 @@ SEARCH = Declared(
     SearchResult,
     _search,
     _search_summary,
-    small=lambda store, p: is_small(store.access, p),
+    inline=lambda store, p: search_if_small(store.access, p, budget_bytes=store.budget_bytes),
     job="search",
 )
 FILTER = Declared(

@@ -28,16 +28,15 @@ from bagmcp_plotting.plots import (
     XY,
     CompareParams,
     HistogramParams,
+    PlotDraw,
     Plotter,
     ScanPlotParams,
     TimeseriesParams,
     XYParams,
-    plot_id,
 )
 from bagmcp_plotting.reports import PlotReport
 from bagmcp_plotting.views import PlotViews
 from bagmcp_shared.access import BagAccess
-from bagmcp_shared.jobs import Progress
 from bagmcp_shared.topics import choose_pose_topic
 
 P = TypeVar("P", bound=BaseModel)
@@ -61,9 +60,6 @@ class Plotting:
         with self.access.open(bag) as ob:
             return all(path_is_indexed(ob, p) or ob.short(ob.topic_name(p.partition(".")[0])) for p in paths)
 
-    def stored(self, plot: str, params: BaseModel, bags: list[str]) -> bool:
-        return self.artifacts.find(plot_id(self.access, plot, params, bags)) is not None
-
     def trajectory_small(self, params: XYParams) -> bool:
         with self.access.open(params.bag) as ob:
             topic, _, _ = choose_pose_topic(ob, params.topic)
@@ -76,7 +72,7 @@ def _summary(report: PlotReport) -> str:
 
 
 def _attach(plotting: Plotting, report: PlotReport) -> list[ContentBlock]:
-    png = plotting.artifacts.png(report.artifact.id)
+    png = report.png or plotting.artifacts.png(report.artifact.id)  # a plot drawn inline has its bytes
     image = ImageContent(type="image", data=base64.b64encode(png).decode(), mime_type="image/png")
     uri = ARTIFACT_URI.format(
         artifact=report.artifact.id
@@ -112,7 +108,7 @@ def _plot(
     plot: str,
     description: str,
     params: type[P],
-    work: Callable[[Plotter], Callable[[P, Progress], PlotReport]],
+    work: Callable[[Plotter], PlotDraw[P]],
     draw: Draw,
     bags: Callable[[P], list[str]],
     quick: Callable[[Plotting, P], bool],
@@ -123,9 +119,11 @@ def _plot(
         description,
         params,
         PlotReport,
-        lambda plotting, p, progress: work(plotting.plotter)(p, progress),
+        lambda plotting, p, progress: work(plotting.plotter)(p, progress, None),
         _summary,
-        small=lambda plotting, p: plotting.stored(plot, p, bags(p)) or quick(plotting, p),
+        inline=lambda plotting, p: plotting.plotter.now(
+            work(plotting.plotter), plot, p, bags(p), lambda q: quick(plotting, q)
+        ),
         job=plot,
         view=_finish(tool, draw),
         attach=_attach,

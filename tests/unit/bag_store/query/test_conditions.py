@@ -6,7 +6,8 @@ import time
 
 import pytest
 
-from bagmcp_bag_store.query.conditions import BoundedRegex, NearPosition, check_value, parse_between, parse_near
+from bagmcp_bag_store.query.bounded_regex import BoundedRegex
+from bagmcp_bag_store.query.conditions import NearPosition, parse_between, parse_condition, parse_near
 from bagmcp_shared.errors import ArgumentError
 
 
@@ -41,7 +42,7 @@ def test_wrong_conditions_and_values_are_refused_with_the_accepted_forms(
     condition: str, value: object, phrase: str
 ) -> None:
     with pytest.raises(ArgumentError, match=phrase):
-        check_value(condition, value)  # type: ignore[arg-type]
+        parse_condition(condition, value)  # type: ignore[arg-type]
 
 
 def test_a_catastrophic_backtracking_regex_answers_quickly() -> None:

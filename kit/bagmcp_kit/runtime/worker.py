@@ -8,12 +8,11 @@ from collections.abc import Callable
 
 from celery import Celery
 
-from bagmcp_shared.jobs.kinds import JobRegistry
-from bagmcp_shared.jobs.run import run_job
-from bagmcp_shared.jobs.store import JobStore
-from bagmcp_shared.resources import Resources, team_resources
+from bagmcp_kit.runtime.celery_app import create_celery
+from bagmcp_kit.runtime.resources import Resources, team_resources
+from bagmcp_shared.jobs import JobRegistry, JobStore, run_job
 from bagmcp_shared.settings import Env, TeamSettings
-from bagmcp_shared.tasks import TaskRef, create_celery
+from bagmcp_shared.tasks import TaskRef
 
 
 def register_job_task(

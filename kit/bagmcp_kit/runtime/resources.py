@@ -15,6 +15,7 @@ from pathlib import Path
 
 import redis
 
+from bagmcp_kit.runtime.celery_app import CeleryRunner, create_celery
 from bagmcp_shared.access import (
     BagAccess,
     BagFiles,
@@ -38,7 +39,7 @@ from bagmcp_shared.settings import (
     TeamSettings,
 )
 from bagmcp_shared.storage import LocalStore, ObjectStore, S3Store
-from bagmcp_shared.tasks import CeleryRunner, Runner, ThreadRunner, create_celery
+from bagmcp_shared.tasks import Runner, ThreadRunner
 
 log = logging.getLogger(__name__)
 
