@@ -10,12 +10,15 @@ import secrets
 from collections.abc import Iterator
 from concurrent.futures import ProcessPoolExecutor
 from contextlib import ExitStack
+from dataclasses import replace
 from multiprocessing import get_context
 from pathlib import Path
+from typing import cast
 
 import pytest
 from mcap.writer import CompressionType, Writer
 from rosbags.rosbag1 import Writer as Ros1Writer
+from rosbags.rosbag2 import CompressionMode, StoragePlugin
 from rosbags.typesys import Stores, get_typestore
 
 from bagmcp_bag_store.ingest.content import content_id
@@ -23,11 +26,12 @@ from bagmcp_bag_store.ingest.ingest import Ingestor
 from bagmcp_bag_store.ingest.shelf import Shelf
 from bagmcp_shared import keys
 from bagmcp_shared.access import BagAccess, RangedBagFiles
-from bagmcp_shared.bags import open_bag
+from bagmcp_shared.bags import BagReader, BagSummary, open_bag
 from bagmcp_shared.catalog import BagRecord, MemoryCatalog
 from bagmcp_shared.errors import DamagedBagError, StorageError
 from bagmcp_shared.settings import RangeReads
 from bagmcp_shared.storage import S3Store
+from tests.fixtures.compressed_bags import CompressedKind, write_compressed, write_ros2_compressed
 from tests.fixtures.faults import weed_server
 from tests.fixtures.restartable import Restartable
 from tests.fixtures.servers import S3Endpoint, remove_weed_sockets
@@ -105,16 +109,23 @@ def s3_of(endpoint: S3Endpoint, bucket: str) -> S3Store:
     )
 
 
-@pytest.fixture
+@pytest.fixture(scope="module")
 def store(s3_server: S3Endpoint) -> S3Store:
+    """One bucket for the module: the tests' weed holds 16 volumes and each bucket written takes one. Every
+    test stores its bags again first (``shelve``), so one that changed an object leaves it right again."""
     created = s3_of(s3_server, f"ranged-{secrets.token_hex(4)}")
     created.ensure_bucket()
     return created
 
 
 def shelve(store: S3Store, catalog: MemoryCatalog, bag: Path, work: Path, *, name: str = "padded") -> BagRecord:
-    """Store and ingest ``bag`` as the bag-store does (ingest reads its own whole copy, in ``work``)."""
-    record, _ = Shelf(catalog, store).register(bag, [bag.name], content_id([bag], directory=False), name=name, tags=[])
+    """Store and ingest ``bag`` (a file or a ROS 2 directory) as the bag-store does (ingest reads a whole
+    copy it fetches into ``work``/ingest-cache)."""
+    names = [bag.name]
+    if bag.is_dir():  # a recording's SQLite -shm/-wal side files are not part of the bag
+        names = sorted(p.name for p in bag.iterdir() if not p.name.endswith(("-shm", "-wal")))
+    sha = content_id([bag / n for n in names] if bag.is_dir() else [bag], directory=bag.is_dir())
+    record, _ = Shelf(catalog, store).register(bag, names, sha, name=name, tags=[])
     files = RangedBagFiles(store, work / "ingest-cache", max_bytes=1 << 30, reads=ROOMY)
     assert Ingestor(catalog, files, files, store).ingest(record.id) == "ready"
     ready = catalog.get(record.id)
@@ -158,8 +169,105 @@ def test_answers_by_range_equal_the_local_file_and_a_point_read_fetches_a_few_ch
     assert answers(access, record.id) == local_answers(local_bag)  # warm: every block from disk
     assert files.blocks.counters.fetched_bytes == fetched
     assert files.blocks.counters.hits > 0
+    assert not (tmp_path / "ingest-cache" / record.id).exists()  # ingest dropped the whole copy it read
     ingested_here = RangedBagFiles(store, tmp_path / "ingest-cache", max_bytes=1 << 30, reads=ROOMY)
-    assert ingested_here.reader_for(record)[0].is_file()  # the worker that ingested it reads its own copy
+    assert ingested_here.reader_for(record)[0] == Path("padded")  # the ingesting worker reads by range too
+
+
+def all_messages(reader: BagReader) -> Answer:
+    return [(m.connection.topic, m.log_time_ns, m.data) for m in reader.messages()]
+
+
+def summary_of(reader: BagReader) -> BagSummary:
+    return replace(reader.summary(), path="")  # the path names the local directory or the bag
+
+
+def ros2_directory(kind: str, corpus: Path, work: Path) -> Path:
+    """A recorded ROS 2 directory of the corpus (``ros2_mcap/...``), or the scenario bag written as one."""
+    if kind.startswith("ros2_"):
+        return corpus / kind
+    work.mkdir(parents=True, exist_ok=True)
+    if kind == "mcap-zstd-message":
+        write_ros2_compressed(work / "scenario-message", StoragePlugin.MCAP, CompressionMode.MESSAGE)
+        return work / "scenario-message"
+    return write_compressed(cast(CompressedKind, kind), work)
+
+
+@pytest.mark.parametrize(
+    "kind",
+    [
+        "ros2_mcap/rosbag2_wbag_split",  # five storage files listed in metadata.yaml
+        "ros2_mcap/replay_testing_cmd_vel",  # two storage files, no metadata.yaml
+        "ros2_mcap/rosbag2_cdr_test",
+        "mcap-zstd",  # zstd chunks
+        "mcap-zstd-message",  # compression_mode: message
+    ],
+)
+def test_a_ros2_directory_of_mcap_files_is_read_by_range_and_ingest_keeps_no_whole_copy(
+    store: S3Store, corpus: Path, kind: str, tmp_path: Path
+) -> None:
+    local = ros2_directory(kind, corpus, tmp_path / "written")
+    catalog = MemoryCatalog()
+    record = shelve(store, catalog, local, tmp_path, name="ros2")
+    assert record.layout == "directory"
+    assert not (tmp_path / "ingest-cache" / record.id).exists()  # ingest dropped the whole copy it read
+    files = RangedBagFiles(store, tmp_path / "service-cache", max_bytes=1 << 30, reads=ROOMY)
+    access = BagAccess(catalog, files)
+    assert files.reader_for(record)[0] == Path("ros2")  # not a local path: read by range
+    with access.open("ros2") as bag, open_bag(local) as embedded:
+        assert summary_of(bag.reader) == summary_of(embedded)
+        expected = all_messages(embedded)
+        assert all_messages(bag.reader) == expected
+        for topic in {topic for topic, _, _ in expected}:
+            times = [t for name, t, _ in expected if name == topic]
+            near = bag.nearest(topic, times[len(times) // 2])
+            assert near.log_time_ns == times[len(times) // 2]
+            assert (topic, near.log_time_ns, near.data) in expected
+    assert files.blocks.counters.fetched_bytes > 0
+    assert not (tmp_path / "service-cache" / record.id).exists()  # no whole copy where it is read either
+
+
+def test_a_bag_whose_ingest_failed_leaves_no_whole_copy(store: S3Store, local_mcap: Path, tmp_path: Path) -> None:
+    cut = tmp_path / "cut.mcap"
+    cut.write_bytes(local_mcap.read_bytes()[: local_mcap.stat().st_size // 2])  # ends inside a chunk
+    catalog = MemoryCatalog()
+    record, _ = Shelf(catalog, store).register(cut, [cut.name], content_id([cut], directory=False), name="cut", tags=[])
+    files = RangedBagFiles(store, tmp_path / "ingest-cache", max_bytes=1 << 30, reads=ROOMY)
+    assert Ingestor(catalog, files, files, store).ingest(record.id) == "failed"
+    assert not (tmp_path / "ingest-cache" / record.id).exists()
+
+
+def test_a_changed_file_of_a_ros2_directory_is_an_error_naming_the_bag(
+    store: S3Store, corpus: Path, tmp_path: Path
+) -> None:
+    local = corpus / "ros2_mcap/rosbag2_wbag_split"
+    catalog = MemoryCatalog()
+    record = shelve(store, catalog, local, tmp_path, name="split")
+    altered = bytearray((local / "wbag_1.mcap").read_bytes())
+    altered[len(altered) // 2] ^= 0xFF
+    store.put_bytes(keys.bag_file(record.id, "wbag_1.mcap"), bytes(altered))
+    fresh = BagAccess(catalog, RangedBagFiles(store, tmp_path / "a", max_bytes=1 << 30, reads=ROOMY))
+    with pytest.raises(DamagedBagError, match=r"bag split changed in the object store .*ETag"), fresh.open("split"):
+        pass
+    store.put_bytes(keys.bag_file(record.id, "wbag_1.mcap"), bytes(altered[:-100]))
+    catalog.replace(record.model_copy(update={"etags": {}}))  # a bag stored before ETags were recorded
+    other = BagAccess(catalog, RangedBagFiles(store, tmp_path / "b", max_bytes=1 << 30, reads=ROOMY))
+    with pytest.raises(DamagedBagError, match=r"bag split changed .*bytes in all, the catalog"), other.open("split"):
+        pass
+
+
+@pytest.mark.parametrize("kind", ["ros2_db3/rosbag2_cdr_test", "mcap-zstd-file"])
+def test_sqlite3_and_zstd_file_directories_are_still_copied_whole_and_answer_right(
+    store: S3Store, corpus: Path, kind: str, tmp_path: Path
+) -> None:
+    local = ros2_directory(kind, corpus, tmp_path / "written")
+    catalog = MemoryCatalog()
+    record = shelve(store, catalog, local, tmp_path, name="whole")
+    files = RangedBagFiles(store, tmp_path / "service-cache", max_bytes=1 << 30, reads=ROOMY)
+    with BagAccess(catalog, files).open("whole") as bag, open_bag(local) as embedded:
+        assert all_messages(bag.reader) == all_messages(embedded)
+    assert (tmp_path / "service-cache" / record.id / record.files[-1]).is_file()  # opened by path
+    assert files.blocks.counters.fetched_bytes == 0
 
 
 def test_a_bag_many_times_larger_than_the_cache_answers_right_and_the_cache_keeps_its_bound(

@@ -1,5 +1,6 @@
-"""The stack reads bare MCAP files and ROS 1 bags where they are stored: its answers equal the embedded
-server's on the same files, and the service that answered holds blocks of them, never a whole copy."""
+"""The stack reads bare MCAP files, ROS 1 bags and ROS 2 directories of MCAP files where they are stored: its
+answers equal the embedded server's on the same files, the service that answered holds blocks of them, and
+neither it nor the worker that ingested them holds a whole copy."""
 
 from __future__ import annotations
 
@@ -29,21 +30,37 @@ async def answers(client: Client, names: list[str]) -> list[JsonObject]:
     return found
 
 
-async def test_mcap_and_ros1_answers_by_range_equal_the_embedded_servers(stack: Stack, tmp_path: Path) -> None:
+async def ros2_answers(client: Client, name: str) -> list[JsonObject]:
+    """A ROS 2 directory of one MCAP file with metadata.yaml (/topic: ten strings over 4.5 s)."""
+    found = [await call(client, "describe_topic", bag=name, topic="/topic")]
+    for at in (0.0, 2.0, 4.5):
+        found.append(await call(client, "get_message_at_time", bag=name, topic="/topic", time=at))
+    found.append(await call(client, "get_messages_in_range", bag=name, topic="/rosout", start=0.0, end=4.5))
+    return found
+
+
+async def test_mcap_ros1_and_ros2_answers_by_range_equal_the_embedded_servers(
+    stack: Stack, tmp_path: Path, corpus: Path
+) -> None:
     bags = [write_padded_mcap(tmp_path / "ranged_mcap.mcap"), write_padded_ros1(tmp_path / "ranged_ros1.bag", "lz4")]
-    uploaded = [stack.upload_ok(path) for path in bags]
+    ros2 = corpus / "ros2_mcap" / "rosbag2_talker"
+    uploaded = [stack.upload_ok(path) for path in [*bags, ros2]]
     names = [str(bag["name"]) for bag in uploaded]
     await stack.wait_ready(names)
     async with http_client(f"{stack.url}/mcp", TOKEN) as client:
-        remote = await answers(client, names)
-    with in_process(copy_bags(bags, tmp_path / "served"), tmp_path / "data") as services:
+        remote = await answers(client, names[:2]) + await ros2_answers(client, names[2])
+    with in_process(copy_bags([*bags, ros2], tmp_path / "served"), tmp_path / "data") as services:
         async with Client(services.gateway(), cache=None) as client:
-            local = await answers(client, names)
+            local = await answers(client, names[:2]) + await ros2_answers(client, names[2])
     assert remote == local
     assert remote[2]["message"]["time"]["offset_s"] == pytest.approx(7.77)
-    cache = stack.bag_store_data / "cache"
-    for bag in uploaded:
-        assert not (cache / str(bag["id"])).exists()  # no whole copy in the service that answered
+    caches = [stack.bag_store_data / "cache"]
+    caches += [stack.logs.parent / f"{of}-worker-{i}" / "cache" for i, (of, _) in enumerate(stack.workers, 1)]
+    assert any(cache.is_dir() for cache in caches[1:])  # the worker that ingested them has a cache
+    for cache in caches:
+        for bag in uploaded:
+            assert not (cache / str(bag["id"])).exists()  # no whole copy in the service or any worker
+    cache = caches[0]
     assert any((cache / ".blocks" / "blocks").iterdir())
     metrics = httpx.get(f"{stack.bag_store_url}/metrics", headers={"Authorization": f"Bearer {SERVICE_TOKEN}"})
     counters = dict(line.split() for line in metrics.text.splitlines() if not line.startswith("#"))

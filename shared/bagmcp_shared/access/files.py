@@ -152,6 +152,18 @@ class CachedBagFiles:
         root = self._dir / record.id
         return (root / _COMPLETE).exists() and all((root / name).exists() for name in record.files)
 
+    def release_ingested(self, record: BagRecord) -> bool:
+        """Called when ingest has read the bag (``record`` as it is now, summary included): a cache whose
+        later reads need no whole copy drops it. Here every read needs it, so it stays; returns whether it
+        was dropped."""
+        return False
+
+    def drop_copy(self, record: BagRecord) -> bool:
+        """Remove this cache's whole copy of the bag unless another thread or process is fetching it
+        (then it stays, for eviction to take later); returns whether it is gone."""
+        entry = self._dir / record.id
+        return not entry.exists() or self._try_remove(entry)
+
     def index_dir(self, record: BagRecord) -> Path | None:
         if not record.index_files:
             return None

@@ -38,10 +38,13 @@ class RangeStore(Protocol):
     def read_range_tagged(self, key: str, *, offset: int, length: int) -> tuple[bytes, str]: ...
 
 
+UNKNOWN_SIZE = -1
+
+
 @dataclass(frozen=True)
 class StoredFile:
-    """One bag file as the catalog knows it: the bag's name (for errors), its key, size and ETag
-    ("" when the catalog recorded none)."""
+    """One bag file as the catalog knows it: the bag's name (for errors), its key, size (UNKNOWN_SIZE for
+    a ROS 2 directory's files: the catalog records their sum) and ETag ("" when the catalog recorded none)."""
 
     bag: str
     key: str
@@ -56,19 +59,20 @@ def changed(bag: str, what: str) -> DamagedBagError:
     )
 
 
-def pinned_etag(store: RangeStore, stored: StoredFile) -> str:
-    """The ETag every range read must carry: the catalog's, checked against a HEAD of the object."""
+def pinned(store: RangeStore, stored: StoredFile) -> StoredFile:
+    """``stored`` with the ETag every range read must carry (the catalog's, checked against a HEAD of the
+    object, else the HEAD's) and its size (the HEAD's when the catalog records none)."""
     try:
         found = store.stat(stored.key)
     except ObjectNotFoundError as err:
         raise StorageError(
             f"bag {stored.bag} is missing from the object store ({stored.key}); delete it and upload it again"
         ) from err
-    if found.size != stored.size:
+    if stored.size != UNKNOWN_SIZE and found.size != stored.size:
         raise changed(stored.bag, f"{found.size} bytes, the catalog recorded {stored.size}")
     if stored.etag and found.etag and found.etag != stored.etag:
         raise changed(stored.bag, f"ETag {found.etag}, the catalog recorded {stored.etag}")
-    return stored.etag or found.etag
+    return StoredFile(stored.bag, stored.key, found.size, stored.etag or found.etag)
 
 
 class RangedFile(io.BufferedIOBase):
@@ -80,9 +84,9 @@ class RangedFile(io.BufferedIOBase):
     def __init__(self, store: RangeStore, stored: StoredFile, blocks: BlockCache, *, read_ahead_bytes: int) -> None:
         super().__init__()
         self._store = store
-        self._stored = stored
+        self._stored = stored = pinned(store, stored)
         self._blocks = blocks
-        self._etag = pinned_etag(store, stored)
+        self._etag = stored.etag
         self._obj = object_id(store.bucket, stored.key, self._etag)
         self._block = blocks.block_bytes
         self._ahead = max(read_ahead_bytes // self._block, 0)
@@ -93,6 +97,11 @@ class RangedFile(io.BufferedIOBase):
         self._mem_index = -1
         self._mem = b""
         self._records: list[tuple[int, int]] = []  # (start, stop) of records a reader reads whole
+
+    @property
+    def size(self) -> int:
+        """The object's size in bytes (the HEAD's when the catalog recorded none)."""
+        return self._stored.size
 
     def hint_records(self, spans: list[tuple[int, int]]) -> None:
         """Tell the file the byte spans of records that are read whole (a bag's chunks, from its index):

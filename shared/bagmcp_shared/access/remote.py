@@ -1,10 +1,13 @@
-"""Team mode's bag files with range reads: bare MCAP files and ROS 1 bags are read where they are stored.
+"""Team mode's bag files with range reads: bare MCAP files, ROS 1 bags and ROS 2 directories of MCAP
+storage files are read where they are stored.
 
 A point read of an MCAP bag fetches its header block, its footer and summary (chunk indexes) and the
 chunks that overlap the topic and window; of a ROS 1 bag, its header, the index at its end (connections
 and chunk infos) and the chunks that overlap; all through the host's block cache, nothing copied whole.
-ROS 2 directories (sqlite3 or MCAP storage) are still copied whole by ``CachedBagFiles`` (rosbags and
-sqlite3 open them by path), as is every bag while it is ingested, and for downloads.
+A ROS 2 directory of MCAP storage files is read the same way per file, metadata.yaml as one small read.
+ROS 2 directories with sqlite3 (.db3) or zstd-compressed (.mcap.zstd) storage files are still copied whole
+by ``CachedBagFiles`` (SQLite opens its database by path; a zstd stream cannot be entered in the middle),
+as is every bag while it is ingested (the copy is dropped afterwards, see ``drop_copy``), and for downloads.
 """
 
 from __future__ import annotations
@@ -16,8 +19,8 @@ from typing import BinaryIO, Protocol, cast
 from bagmcp_shared import keys
 from bagmcp_shared.access.blocks import BlockCache
 from bagmcp_shared.access.files import CachedBagFiles
-from bagmcp_shared.access.ranged import RangedFile, RangeStore, StoredFile
-from bagmcp_shared.bags import BagFormat, BagReader, open_stream
+from bagmcp_shared.access.ranged import UNKNOWN_SIZE, RangedFile, RangeStore, StoredFile, changed
+from bagmcp_shared.bags import BagFormat, BagReader, open_directory_stream, open_stream
 from bagmcp_shared.catalog.models import BagRecord
 from bagmcp_shared.settings import RangeReads
 from bagmcp_shared.storage import ObjectStore
@@ -28,7 +31,7 @@ class RemoteStore(ObjectStore, RangeStore, Protocol):
 
 
 class RangedBagFiles(CachedBagFiles):
-    """``CachedBagFiles`` whose readers of bare MCAP files and ROS 1 bags read by range through ``blocks``."""
+    """``CachedBagFiles`` whose readers of ``ranged`` bags (MCAP, ROS 1, ROS 2 MCAP) read through ``blocks``."""
 
     def __init__(self, store: RemoteStore, cache_dir: Path, *, max_bytes: int, reads: RangeReads) -> None:
         super().__init__(store, cache_dir, max_bytes=max_bytes)
@@ -39,13 +42,44 @@ class RangedBagFiles(CachedBagFiles):
         )  # a dot name: the whole-copy cache neither counts nor evicts it
 
     def reader_for(self, record: BagRecord) -> tuple[Path, Callable[[], BagReader]]:
-        if not ranged(record) or self.has_copy(record):  # a worker that ingested the bag reads its copy
+        if not ranged(record) or self.has_copy(record):  # a process holding a whole copy (a download) reads it
             return super().reader_for(record)
+        label = Path(record.name)
+        if record.layout == "directory":
+            return label, lambda: self._open_directory(record, label)
         name = record.files[0]
         stored = StoredFile(record.name, keys.bag_file(record.id, name), record.size_bytes, record.etags.get(name, ""))
-        label = Path(record.name)
         fmt = BagFormat(record.summary.format if record.summary is not None else "")
         return label, lambda: open_stream(label, cast(BinaryIO, self.open_file(stored)), size=stored.size, fmt=fmt)
+
+    def release_ingested(self, record: BagRecord) -> bool:
+        """A bag read by range needs no whole copy after ingest: the one ingest fetched is dropped at once,
+        so no process keeps a whole copy (later reads, in this worker too, fetch ranges)."""
+        return ranged(record) and self.drop_copy(record)
+
+    def _open_directory(self, record: BagRecord, label: Path) -> BagReader:
+        """A ROS 2 directory of MCAP storage files: metadata.yaml read whole (a few KB, through the block
+        cache like the rest), each storage file opened by range (its HEAD gives the size the catalog lacks)."""
+        metadata: bytes | None = None
+        storage: dict[str, tuple[BinaryIO, int]] = {}
+        try:
+            for name in record.files:
+                stored = StoredFile(
+                    record.name, keys.bag_file(record.id, name), UNKNOWN_SIZE, record.etags.get(name, "")
+                )
+                file = self.open_file(stored)
+                if Path(name).name == METADATA:
+                    with file:
+                        metadata = file.read()
+                else:
+                    storage[Path(name).name] = (cast(BinaryIO, file), file.size)
+            if (found := len(metadata or b"") + sum(size for _, size in storage.values())) != record.size_bytes:
+                raise changed(record.name, f"{found} bytes in all, the catalog recorded {record.size_bytes}")
+        except BaseException:
+            for stream, _ in storage.values():
+                stream.close()
+            raise
+        return open_directory_stream(label, metadata, storage)
 
     def open_file(self, stored: StoredFile) -> RangedFile:
         """A seekable file over ``stored``, read through the block cache."""
@@ -53,8 +87,15 @@ class RangedBagFiles(CachedBagFiles):
 
 
 RANGED = frozenset({BagFormat.MCAP, BagFormat.ROS1})
+METADATA = "metadata.yaml"
 
 
 def ranged(record: BagRecord) -> bool:
-    """Whether the bag is read by range: a single bare MCAP file or ROS 1 bag, ingested."""
-    return record.layout == "file" and record.summary is not None and record.summary.format in RANGED
+    """Whether the bag is read by range: ingested, and a single bare MCAP file or ROS 1 bag, or a ROS 2
+    directory whose storage files are all uncompressed-by-file MCAP files (``.mcap``)."""
+    if record.summary is None:
+        return False
+    if record.layout == "file":
+        return record.summary.format in RANGED
+    storage = [name for name in record.files if Path(name).name != METADATA]
+    return record.summary.format == BagFormat.ROS2_MCAP and all(name.endswith(".mcap") for name in storage)

@@ -10,7 +10,7 @@ from bagmcp_shared.bags.models import (
     RawMessage,
     TopicSummary,
 )
-from bagmcp_shared.bags.reader import BagReader, open_bag, open_stream
+from bagmcp_shared.bags.reader import BagReader, open_bag, open_directory_stream, open_stream
 
 __all__ = [
     "BagFormat",
@@ -23,5 +23,6 @@ __all__ = [
     "RawMessage",
     "TopicSummary",
     "open_bag",
+    "open_directory_stream",
     "open_stream",
 ]

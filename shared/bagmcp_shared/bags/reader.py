@@ -5,7 +5,7 @@ from __future__ import annotations
 import logging
 import os
 import tempfile
-from collections.abc import Iterable, Iterator, Sequence
+from collections.abc import Iterable, Iterator, Mapping, Sequence
 from contextlib import ExitStack, contextmanager
 from pathlib import Path
 from types import TracebackType
@@ -17,7 +17,7 @@ from bagmcp_shared.bags.mcap_source import McapSource
 from bagmcp_shared.bags.models import BagFormat, BagSummary, Compression, Connection, RawMessage, TopicSummary
 from bagmcp_shared.bags.ros1_ranges import Ros1RangeSource
 from bagmcp_shared.bags.ros1_source import Ros1Source
-from bagmcp_shared.bags.ros2_dir import open_directory, open_storage_file
+from bagmcp_shared.bags.ros2_dir import open_directory, open_directory_streams, open_storage_file
 from bagmcp_shared.bags.source import MessageSource
 from bagmcp_shared.errors import BagError, BagmcpError, DamagedBagError, TopicNotFoundError, UnsupportedFormatError
 
@@ -247,3 +247,18 @@ def open_stream(name: Path, stream: BinaryIO, *, size: int, fmt: BagFormat) -> B
         stack.close()
         raise
     return BagReader(name, source, fmt, [name], stack, size_bytes=size)
+
+
+def open_directory_stream(name: Path, metadata: bytes | None, storage: Mapping[str, tuple[BinaryIO, int]]) -> BagReader:
+    """Open a ROS 2 bag directory of MCAP storage files, each read through a seekable stream (see
+    ``open_directory_streams``); ``name`` stands for the directory in messages. Closing the reader
+    closes the streams."""
+    stack = ExitStack()
+    try:
+        with damage_named(name):
+            source, files = open_directory_streams(name, metadata, storage, stack)
+    except BaseException:
+        stack.close()
+        raise
+    size = sum(size for _, size in storage.values())  # as a local directory counts it: its storage files
+    return BagReader(name, source, BagFormat.ROS2_MCAP, files, stack, size_bytes=size)

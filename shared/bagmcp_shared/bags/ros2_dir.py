@@ -3,10 +3,10 @@
 from __future__ import annotations
 
 import re
-from collections.abc import Collection, Iterator, Sequence
+from collections.abc import Callable, Collection, Iterator, Mapping, Sequence
 from contextlib import ExitStack
 from pathlib import Path
-from typing import cast
+from typing import BinaryIO, cast
 
 import yaml
 import zstandard
@@ -16,7 +16,7 @@ from bagmcp_shared.bags.mcap_source import McapSource
 from bagmcp_shared.bags.models import BagFormat, Compression, Connection, RawMessage
 from bagmcp_shared.bags.source import MergedSource, MessageSource
 from bagmcp_shared.bags.sqlite3_source import Sqlite3Source
-from bagmcp_shared.bags.user_yaml import UserYamlError, read_user_yaml
+from bagmcp_shared.bags.user_yaml import UserYamlError, load_user_yaml, read_user_yaml
 from bagmcp_shared.budget import check_record, input_budget
 from bagmcp_shared.errors import DamagedBagError, UnsupportedFormatError
 
@@ -39,8 +39,13 @@ def _read_metadata(directory: Path) -> dict[str, object] | None:
     path = directory / "metadata.yaml"
     if not path.exists():
         return None
+    return _metadata_info(path, lambda: read_user_yaml(path))
+
+
+def _metadata_info(path: Path, load: Callable[[], object]) -> dict[str, object]:
+    """The ``rosbag2_bagfile_information`` of the metadata.yaml at ``path``, as ``load`` parses it."""
     try:
-        data = read_user_yaml(path)
+        data = load()
         info = data["rosbag2_bagfile_information"]  # type: ignore[index]
     except UserYamlError as err:
         raise UnsupportedFormatError(
@@ -54,11 +59,15 @@ def _read_metadata(directory: Path) -> dict[str, object] | None:
     return cast(dict[str, object], info)
 
 
-def _listed_files(directory: Path, info: dict[str, object]) -> list[Path]:
+def _listed_names(directory: Path, info: dict[str, object]) -> list[str]:
     names = info.get("relative_file_paths") or []
     if not isinstance(names, list):
         raise DamagedBagError(f"{directory}/metadata.yaml: relative_file_paths is not a list")
-    files = [directory / Path(str(n)).name for n in names]
+    return [Path(str(n)).name for n in names]
+
+
+def _listed_files(directory: Path, info: dict[str, object]) -> list[Path]:
+    files = [directory / name for name in _listed_names(directory, info)]
     if missing := [f.name for f in files if not f.exists()]:
         raise DamagedBagError(f"{directory}: storage files listed in metadata.yaml are missing: {missing}")
     return files
@@ -100,18 +109,25 @@ def _disagreements(info: dict[str, object] | None, connections: Sequence[Connect
     return notes
 
 
+def _compression_mode(directory: Path, info: dict[str, object] | None) -> str:
+    """ "" (none), "file" or "message": how metadata.yaml says the storage is zstd-compressed."""
+    if info is None:
+        return ""
+    mode = str(info.get("compression_mode") or "").lower()
+    fmt = str(info.get("compression_format") or "")
+    if mode in ("", "none"):
+        return ""
+    if fmt != "zstd":
+        raise UnsupportedFormatError(f"{directory}: compression format {fmt!r} is not supported (zstd is)")
+    return mode
+
+
 def storage_files(directory: Path) -> tuple[list[Path], str, dict[str, object] | None]:
     """The storage files of a bag directory in recording order, compression mode, metadata."""
     info = _read_metadata(directory)
     if info is None:
         return _found_files(directory), "", None
-    mode = str(info.get("compression_mode") or "").lower()
-    fmt = str(info.get("compression_format") or "")
-    if mode in ("", "none"):
-        mode = ""
-    elif fmt != "zstd":
-        raise UnsupportedFormatError(f"{directory}: compression format {fmt!r} is not supported (zstd is)")
-    return _listed_files(directory, info), mode, info
+    return _listed_files(directory, info), _compression_mode(directory, info), info
 
 
 class _DecompressedMessages:
@@ -204,3 +220,33 @@ def open_directory(
     conns = [c for s in sources for c in s.connections]
     compression = {"file": Compression.ZSTD_FILE, "message": Compression.ZSTD_MESSAGE}.get(mode)
     return MergedSource(sources, notes=_disagreements(info, conns), compression=compression), fmt, files
+
+
+def open_directory_streams(
+    directory: Path, metadata: bytes | None, storage: Mapping[str, tuple[BinaryIO, int]], stack: ExitStack
+) -> tuple[MessageSource, list[Path]]:
+    """A ROS 2 bag directory whose storage files are MCAP files read through seekable streams (team mode
+    reads them where they are stored, by byte ranges): ``metadata`` is metadata.yaml's bytes (None when the
+    directory has none), ``storage`` maps each storage file's name to (stream, size). The streams are
+    closed with ``stack``. zstd-compressed storage files (compression_mode: file) are not read this way:
+    they are decompressed whole first, by ``open_directory``."""
+    for stream, _ in storage.values():
+        stack.callback(stream.close)
+    path = directory / "metadata.yaml"
+    info = None if metadata is None else _metadata_info(path, lambda: load_user_yaml(metadata.decode("utf-8")))
+    mode = _compression_mode(directory, info)
+    if mode == "file":
+        raise UnsupportedFormatError(f"{directory}: zstd-compressed storage files are not read from a stream")
+    names = _listed_names(directory, info) if info is not None else sorted(storage, key=lambda n: _natural_key(Path(n)))
+    if missing := [name for name in names if name not in storage]:
+        raise DamagedBagError(f"{directory}: storage files listed in metadata.yaml are missing: {missing}")
+    sources: list[MessageSource] = []
+    for name in names:
+        stream, size = storage[name]
+        source = McapSource(directory / name, stream=stream, size=size)
+        stack.callback(source.close)
+        sources.append(_DecompressedMessages(source) if mode == "message" else source)
+    conns = [c for s in sources for c in s.connections]
+    compression = Compression.ZSTD_MESSAGE if mode == "message" else None
+    merged = MergedSource(sources, notes=_disagreements(info, conns), compression=compression)
+    return merged, [directory / name for name in names]

@@ -12,7 +12,7 @@ from pathlib import Path
 from bagmcp_bag_store.fleet.extract import IngestedBag
 from bagmcp_bag_store.fleet.feeding import ViewFeeder
 from bagmcp_shared import keys
-from bagmcp_shared.access import BagFiles, IndexPublisher
+from bagmcp_shared.access import BagFiles, CachedBagFiles, IndexPublisher
 from bagmcp_shared.bags import BagReader, BagSummary, open_bag
 from bagmcp_shared.catalog import BagRecord, Catalog, CatalogSummary
 from bagmcp_shared.errors import BagError, BagNotFoundError
@@ -85,6 +85,8 @@ class Ingestor:
         except BagError as err:
             reason = str(err).replace(str(path), record.name)  # no server paths in what clients see
             log.warning("ingest of %s failed: %s", bag_id, reason)
+            if isinstance(self._files, CachedBagFiles):  # a bag that failed is never read again
+                self._files.drop_copy(record)
             self.mark_failed(bag_id, reason)
             return "failed"
         summary = CatalogSummary.of(found, header_rates=header_rates)
@@ -92,7 +94,10 @@ class Ingestor:
             learned = {"summary": summary.model_dump(mode="json"), "definitions": definitions}
             self._store.put_bytes(keys.ingest_summary(bag_id), json.dumps(learned).encode())
         ready = {"status": "ready", "summary": summary, "error": None, "progress": None, "index_files": index_files}
-        if not self._catalog.replace(record.model_copy(update=ready)):
+        done = record.model_copy(update=ready)
+        if isinstance(self._files, CachedBagFiles):  # team mode: no whole copy stays once ingest has read it
+            self._files.release_ingested(done)
+        if not self._catalog.replace(done):
             self._forget_deleted(record, index_files)
             log.info("bag %s was deleted while it was ingested; its index is removed", bag_id)
             return "deleted"
