@@ -8,6 +8,7 @@ from pathlib import Path
 import pytest
 
 from tests.fixtures.bagfactory import BAG_KINDS, BagKind, write_bag
+from tests.fixtures.drive_bags import write_drive_bags
 
 pytest_plugins = ["tests.fixtures.servers"]
 
@@ -38,3 +39,10 @@ def scenario_bag(request: pytest.FixtureRequest, scenario_bags: dict[BagKind, Pa
 @pytest.fixture(scope="session")
 def anyio_backend() -> str:
     return "asyncio"
+
+
+@pytest.fixture(scope="session")
+def drive_bags(tmp_path_factory: pytest.TempPathFactory) -> dict[BagKind, Path]:
+    """The drive scenario (known geometry, logs, TF, images) in the three formats, written once per session
+    (per test process) for every test that reads it."""
+    return write_drive_bags(tmp_path_factory.mktemp("drive-bags"))

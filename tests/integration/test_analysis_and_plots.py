@@ -18,7 +18,6 @@ from tests.checks.paper_tasks import check_paper_tasks
 from tests.checks.plot_checks import check_plots, plot
 from tests.checks.search_checks import finished
 from tests.fixtures.bagfactory import BagKind
-from tests.fixtures.drive_bags import write_drive_bags
 from tests.fixtures.inprocess import copy_bags
 from tests.fixtures.mcp_client import call, http_client, ingested_bags, text_of
 from tests.fixtures.processes import BIN, http_ok, service
@@ -28,11 +27,6 @@ from tests.integration.stack import TOKEN, Stack, new_token
 
 pytestmark = pytest.mark.anyio
 NAMES = ["drive", "drive_db3", "drive_mcap"]
-
-
-@pytest.fixture(scope="module")
-def drive_bags(tmp_path_factory: pytest.TempPathFactory) -> dict[BagKind, Path]:
-    return write_drive_bags(tmp_path_factory.mktemp("drive"))
 
 
 @pytest.fixture(scope="module")

@@ -18,7 +18,6 @@ import pytest
 from bagmcp_kit.identity import TOOLS_HEADER
 from tests.checks.fleet_checks import check_fleet, check_refusals, query
 from tests.fixtures.bagfactory import BagKind
-from tests.fixtures.drive_bags import write_drive_bags
 from tests.fixtures.inprocess import copy_bags
 from tests.fixtures.mcp_client import call_error, http_client
 from tests.fixtures.processes import BIN, http_ok, service
@@ -29,11 +28,6 @@ pytestmark = pytest.mark.anyio
 ADMIN = "fleet-admin-token"
 SPEEDS = "SELECT bag, max(speed) AS top FROM poses WHERE topic = '/odom' GROUP BY bag ORDER BY bag"
 LIMITED = ("--allow", "query_bags", "--allow", "analyze_trajectory", "--allow", "get_job")
-
-
-@pytest.fixture(scope="module")
-def drive_bags(tmp_path_factory: pytest.TempPathFactory) -> dict[BagKind, Path]:
-    return write_drive_bags(tmp_path_factory.mktemp("drive"))
 
 
 @pytest.fixture(scope="module")

@@ -11,8 +11,8 @@ import pytest
 
 from bagmcp_bag_store.embedded import start_embedded
 from bagmcp_bag_store.filtering import FilterParams, filter_bag
-from bagmcp_bag_store.query.search import search_messages
-from bagmcp_bag_store.query.search_params import SearchParams
+from bagmcp_bag_store.queries.search import search_messages
+from bagmcp_bag_store.queries.search_params import SearchParams
 from bagmcp_kit.runtime.resources import embedded_resources
 from bagmcp_shared.jobs import Unreported
 from tests.checks.search_checks import (

@@ -8,7 +8,6 @@ from pathlib import Path
 import pytest
 
 from tests.fixtures.bagfactory import BagKind
-from tests.fixtures.drive_bags import write_drive_bags
 from tests.fixtures.inprocess import InProcess, copy_bags, in_process
 from tests.fixtures.small_bags import write_instant_bag, write_late_topic_bag, write_old_tf_drive
 
@@ -21,12 +20,6 @@ def served(scenario_bags: dict[BagKind, Path], tmp_path_factory: pytest.TempPath
     folder = copy_bags(list(scenario_bags.values()), tmp_path_factory.mktemp("served") / "bags")
     with in_process(folder, tmp_path_factory.mktemp("data")) as services:
         yield services
-
-
-@pytest.fixture(scope="session")
-def drive_bags(tmp_path_factory: pytest.TempPathFactory) -> dict[BagKind, Path]:
-    """The drive scenario (known geometry, logs, TF, images) in the three formats."""
-    return write_drive_bags(tmp_path_factory.mktemp("drive-bags"))
 
 
 @pytest.fixture(scope="session")

@@ -13,8 +13,8 @@ from fastapi.responses import FileResponse, JSONResponse, Response, StreamingRes
 
 from bagmcp_bag_store.errors import ReadOnlyError
 from bagmcp_bag_store.ingest.upload import UploadPolicy, receive, store_upload
-from bagmcp_bag_store.query import catalog_queries
-from bagmcp_bag_store.results import BagList
+from bagmcp_bag_store.queries import catalog_queries
+from bagmcp_bag_store.reports import BagList
 from bagmcp_shared.access import BagAccess
 from bagmcp_shared.catalog import BagRecord, exact_bag, resolve_bag
 

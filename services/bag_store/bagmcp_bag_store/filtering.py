@@ -14,7 +14,7 @@ from bagmcp_bag_store.ingest.content import content_id
 from bagmcp_bag_store.ingest.ingest import Ingestor
 from bagmcp_bag_store.ingest.shelf import Shelf
 from bagmcp_bag_store.ingest.upload import sanitize_name
-from bagmcp_bag_store.results import FilterResult
+from bagmcp_bag_store.reports import FilterResult
 from bagmcp_kit.arguments import BagRef, TimeArg
 from bagmcp_shared.access import BagAccess
 from bagmcp_shared.bags import BagReader

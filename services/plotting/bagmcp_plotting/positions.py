@@ -10,9 +10,9 @@ import numpy as np
 from bagmcp_plotting.data import PathSeries, read_fields
 from bagmcp_shared.access import OpenBag
 from bagmcp_shared.errors import ArgumentError
+from bagmcp_shared.gps_metres import read_local_fixes
 from bagmcp_shared.jobs import Progress
 from bagmcp_shared.laser_ranges import MOVING_MPS
-from bagmcp_shared.local_fixes import read_local_fixes
 from bagmcp_shared.topics import POSE_SOURCES, choose_pose_topic, is_fix
 
 

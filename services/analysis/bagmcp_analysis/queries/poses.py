@@ -10,9 +10,9 @@ import numpy.typing as npt
 from bagmcp_analysis.trajectory.track import Track, pick_clock, track_of_fixes
 from bagmcp_shared.access import OpenBag
 from bagmcp_shared.errors import ArgumentError
+from bagmcp_shared.gps_metres import read_local_fixes
 from bagmcp_shared.index import read_series
 from bagmcp_shared.jobs import Progress
-from bagmcp_shared.local_fixes import read_local_fixes
 from bagmcp_shared.timebase import MAX_CLOCK_SKEW_NS
 from bagmcp_shared.topics import is_fix, pose_source
 

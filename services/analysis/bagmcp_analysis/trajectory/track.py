@@ -14,8 +14,8 @@ import numpy.typing as npt
 from bagmcp_analysis.trajectory.motion import Motion, analyse_motion
 from bagmcp_analysis.trajectory.types import Clock, Extents, Stop, Track, TrackSummary, Waypoint
 from bagmcp_analysis.trajectory.waypoints import select_waypoints
+from bagmcp_shared.gps_metres import EARTH_RADIUS_M, LocalMetres, local_metres
 from bagmcp_shared.laser_ranges import MOVING_MPS
-from bagmcp_shared.local_fixes import EARTH_RADIUS_M, LocalMetres, local_metres
 
 __all__ = [
     "EARTH_RADIUS_M",
@@ -61,7 +61,7 @@ def track_from_fixes(
     """NavSatFix to metres east (x), north (y), up (z) around the first valid fix; yaw unknown (NaN).
 
     Fixes with status < 0 or non-finite latitude/longitude are dropped; z is NaN where the altitude is not
-    finite (see bagmcp_shared.local_fixes)."""
+    finite (see bagmcp_shared.gps_metres)."""
     stamps = np.asarray(t_ns, dtype=np.int64)
     metres = local_metres(latitude_deg, longitude_deg, altitude_m, np.asarray(status, dtype=np.float64))
     if stamps.shape != metres.kept.shape:

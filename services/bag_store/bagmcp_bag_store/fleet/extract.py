@@ -15,8 +15,8 @@ from bagmcp_bag_store.fleet.tf_rows import tf_edge_rows
 from bagmcp_bag_store.fleet.views import VIEWS
 from bagmcp_shared.catalog import BagRecord, CatalogSummary
 from bagmcp_shared.flight_types import FLIGHT_POSES
+from bagmcp_shared.gps_metres import local_metres
 from bagmcp_shared.index import RECORD_TYPES, TF_TYPES, ColumnIndex
-from bagmcp_shared.local_fixes import local_metres
 from bagmcp_shared.log_levels import level_name, level_rank
 
 Arrays = dict[str, npt.NDArray[np.generic] | Sequence[object]]

@@ -5,7 +5,7 @@ from __future__ import annotations
 from mcp.server.mcpserver import MCPServer
 
 from bagmcp_bag_store.job_kinds import RUN_JOB
-from bagmcp_bag_store.query.page_cursor import cursor_key
+from bagmcp_bag_store.queries.page_cursor import cursor_key
 from bagmcp_bag_store.tools.catalog_tools import CatalogTools
 from bagmcp_bag_store.tools.fleet_tools import FIND, QUERY, views_resource
 from bagmcp_bag_store.tools.message_tools import MessageTools

@@ -7,8 +7,8 @@ from typing import Annotated
 from mcp.types import CallToolResult
 from pydantic import Field
 
-from bagmcp_bag_store.query import catalog_queries
-from bagmcp_bag_store.results import BagInfo, BagList, TopicDescription
+from bagmcp_bag_store.queries import catalog_queries
+from bagmcp_bag_store.reports import BagInfo, BagList, TopicDescription
 from bagmcp_kit.answers import run_query
 from bagmcp_kit.arguments import READ_ONLY, BagRef, Offset, TopicName
 from bagmcp_kit.toolsets import tool

@@ -7,10 +7,10 @@ from typing import Annotated, Literal
 from mcp.types import CallToolResult
 from pydantic import Field
 
-from bagmcp_bag_store.query import messages
-from bagmcp_bag_store.query.column_range import messages_as_columns
-from bagmcp_bag_store.query.page_cursor import CursorSigner
-from bagmcp_bag_store.results import MessageAtTime, MessageRange
+from bagmcp_bag_store.queries import messages
+from bagmcp_bag_store.queries.column_range import messages_as_columns
+from bagmcp_bag_store.queries.page_cursor import CursorSigner
+from bagmcp_bag_store.reports import MessageAtTime, MessageRange
 from bagmcp_kit.answers import run_query
 from bagmcp_kit.arguments import READ_ONLY, BagRef, Fields, TimeArg, TopicName
 from bagmcp_kit.toolsets import tool

@@ -4,9 +4,9 @@ else a job); their params models live beside their work (query/search_params.py,
 from __future__ import annotations
 
 from bagmcp_bag_store.filtering import FilterParams, filter_bag
-from bagmcp_bag_store.query.search import search_if_small, search_messages
-from bagmcp_bag_store.query.search_params import SearchParams
-from bagmcp_bag_store.results import FilterResult, SearchResult
+from bagmcp_bag_store.queries.search import search_if_small, search_messages
+from bagmcp_bag_store.queries.search_params import SearchParams
+from bagmcp_bag_store.reports import FilterResult, SearchResult
 from bagmcp_bag_store.tools.store import Store
 from bagmcp_kit.arguments import WRITES
 from bagmcp_kit.declared import Declared

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from bagmcp_bag_store.query.column_range import keep_extremes
+from bagmcp_bag_store.queries.column_range import keep_extremes
 
 
 def test_spikes_in_any_column_survive_thinning_to_a_few_points() -> None:

@@ -10,8 +10,8 @@ import math
 import numpy as np
 import numpy.typing as npt
 
-from bagmcp_bag_store.query.messages import time_base
-from bagmcp_bag_store.results import MessageRange
+from bagmcp_bag_store.queries.messages import time_base
+from bagmcp_bag_store.reports import MessageRange
 from bagmcp_shared.access import BagAccess
 from bagmcp_shared.errors import ArgumentError
 from bagmcp_shared.index import read_series

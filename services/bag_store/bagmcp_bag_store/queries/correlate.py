@@ -10,7 +10,7 @@ from __future__ import annotations
 import numpy as np
 import numpy.typing as npt
 
-from bagmcp_bag_store.results import Correlated
+from bagmcp_bag_store.reports import Correlated
 from bagmcp_shared.access import OpenBag
 from bagmcp_shared.errors import TopicNotFoundError
 from bagmcp_shared.index import ColumnIndex

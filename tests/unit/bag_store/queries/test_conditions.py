@@ -6,8 +6,8 @@ import time
 
 import pytest
 
-from bagmcp_bag_store.query.bounded_regex import BoundedRegex
-from bagmcp_bag_store.query.conditions import NearPosition, parse_between, parse_condition, parse_near
+from bagmcp_bag_store.queries.bounded_regex import BoundedRegex
+from bagmcp_bag_store.queries.conditions import NearPosition, parse_between, parse_condition, parse_near
 from bagmcp_shared.errors import ArgumentError
 
 

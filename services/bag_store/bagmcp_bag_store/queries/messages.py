@@ -7,8 +7,8 @@ from dataclasses import dataclass
 import numpy as np
 from pydantic import JsonValue
 
-from bagmcp_bag_store.query.page_cursor import Cursor, CursorSigner, PageScope
-from bagmcp_bag_store.results import MessageAtTime, MessageOut, MessageRange, RangeMessage
+from bagmcp_bag_store.queries.page_cursor import Cursor, CursorSigner, PageScope
+from bagmcp_bag_store.reports import MessageAtTime, MessageOut, MessageRange, RangeMessage
 from bagmcp_shared.access import BagAccess, OpenBag
 from bagmcp_shared.bags import RawMessage
 from bagmcp_shared.errors import ArgumentError

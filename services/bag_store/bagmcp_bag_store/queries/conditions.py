@@ -17,7 +17,7 @@ import numpy as np
 import numpy.typing as npt
 from pydantic import JsonValue
 
-from bagmcp_bag_store.query.bounded_regex import BoundedRegex
+from bagmcp_bag_store.queries.bounded_regex import BoundedRegex
 from bagmcp_shared.errors import ArgumentError, MessagePathError
 from bagmcp_shared.jsonify import to_json
 from bagmcp_shared.paths import Step, extract

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from pydantic import JsonValue
 
-from bagmcp_bag_store.query.search_params import SearchParams
+from bagmcp_bag_store.queries.search_params import SearchParams
 from bagmcp_shared.access import OpenBag
 from bagmcp_shared.errors import ArgumentError
 from bagmcp_shared.index import LOG_TYPES, LogRow, decode_logs

@@ -12,12 +12,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from bagmcp_bag_store.query.conditions import SearchCondition, parse_condition
-from bagmcp_bag_store.query.correlate import correlate
-from bagmcp_bag_store.query.search_logs import log_details, with_level_numbers
-from bagmcp_bag_store.query.search_params import SearchParams
-from bagmcp_bag_store.query.search_scan import BagScan, Found
-from bagmcp_bag_store.results import ClosestApproach, SearchMatch, SearchResult
+from bagmcp_bag_store.queries.conditions import SearchCondition, parse_condition
+from bagmcp_bag_store.queries.correlate import correlate
+from bagmcp_bag_store.queries.search_logs import log_details, with_level_numbers
+from bagmcp_bag_store.queries.search_params import SearchParams
+from bagmcp_bag_store.queries.search_scan import BagScan, Found
+from bagmcp_bag_store.reports import ClosestApproach, SearchMatch, SearchResult
 from bagmcp_shared.access import BagAccess, OpenBag
 from bagmcp_shared.jobs import Progress, Unreported
 

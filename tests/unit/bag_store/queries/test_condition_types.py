@@ -7,7 +7,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import pytest
 
-from bagmcp_bag_store.query.conditions import (
+from bagmcp_bag_store.queries.conditions import (
     Between,
     Compare,
     Extreme,

@@ -2,8 +2,8 @@
 
 from __future__ import annotations
 
-from bagmcp_bag_store.query.messages import message_out
-from bagmcp_bag_store.results import BagBrief, BagInfo, BagList, FieldInfo, TopicDescription, TopicInfo
+from bagmcp_bag_store.queries.messages import message_out
+from bagmcp_bag_store.reports import BagBrief, BagInfo, BagList, FieldInfo, TopicDescription, TopicInfo
 from bagmcp_shared.access import BagAccess
 from bagmcp_shared.catalog import BagRecord, Catalog, TopicStats, ready_record
 from bagmcp_shared.errors import ArgumentError

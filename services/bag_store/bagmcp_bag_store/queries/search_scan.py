@@ -9,7 +9,7 @@ import numpy as np
 import numpy.typing as npt
 from pydantic import JsonValue
 
-from bagmcp_bag_store.query.conditions import Judging, Masking, NearPosition
+from bagmcp_bag_store.queries.conditions import Judging, Masking, NearPosition
 from bagmcp_shared.access import OpenBag
 from bagmcp_shared.errors import ArgumentError
 from bagmcp_shared.index import ColumnIndex, read_series

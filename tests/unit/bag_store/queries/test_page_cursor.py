@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import pytest
 
-from bagmcp_bag_store.query.page_cursor import Cursor, CursorSigner, PageScope, cursor_key
+from bagmcp_bag_store.queries.page_cursor import Cursor, CursorSigner, PageScope, cursor_key
 from bagmcp_shared.errors import ArgumentError
 
 SCOPE = PageScope("bag-1", "/odom", 0, 10_000, 1)

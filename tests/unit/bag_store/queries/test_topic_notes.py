@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from bagmcp_bag_store.query.catalog_queries import topic_note
+from bagmcp_bag_store.queries.catalog_queries import topic_note
 from bagmcp_shared.catalog import TopicStats
 
 START = 1_700_000_000_000_000_000

@@ -7,7 +7,7 @@ from typing import Annotated
 
 from pydantic import BaseModel, Field, JsonValue
 
-from bagmcp_bag_store.query.conditions import Condition
+from bagmcp_bag_store.queries.conditions import Condition
 from bagmcp_kit.arguments import BagRef, TimeArg, TopicName
 
 ConditionValue = Annotated[
