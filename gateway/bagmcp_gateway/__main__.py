@@ -9,9 +9,9 @@ from bagmcp_gateway.rest_front.proxy import build_proxy
 from bagmcp_gateway.settings import GatewaySettings
 from bagmcp_gateway.upstreams.upstream import Upstream
 from bagmcp_kit.job_tools import build_jobs_server
-from bagmcp_kit.runtime.resources import redis_client
 from bagmcp_kit.service_app import serve
 from bagmcp_shared.jobs import RedisJobStore
+from bagmcp_shared.redis_connection import redis_client
 
 
 def main() -> None:

@@ -34,8 +34,8 @@ from bagmcp_gateway.upstreams.tool_catalog import ToolCatalog
 from bagmcp_gateway.upstreams.upstream import Upstream
 from bagmcp_kit.error_shape import UniformErrors
 from bagmcp_kit.http_errors import StatusTable
-from bagmcp_kit.runtime.resources import redis_client
 from bagmcp_kit.service_app import new_app
+from bagmcp_shared.redis_connection import redis_client
 
 ADMIN_STATUSES: StatusTable = [(TokenNotFoundError, 404, "token_not_found")]
 UPLOAD_STATUSES: StatusTable = [(UploadStalledError, 408, "upload_stalled")]

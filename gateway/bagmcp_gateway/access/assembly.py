@@ -11,7 +11,7 @@ from bagmcp_gateway.access.ratelimit import Limit, MemoryRateLimiter, RateLimite
 from bagmcp_gateway.access.tokens.models import SCOPES, TokenRecord
 from bagmcp_gateway.access.tokens.store import FileTokenStore, RedisTokenStore, TokenStore
 from bagmcp_gateway.access.tokens.verifier import GatewayVerifier, JwtSettings
-from bagmcp_kit.runtime.resources import redis_client
+from bagmcp_shared.redis_connection import redis_client
 
 
 def token_store(redis_url: str | None, tokens_file: Path | None) -> TokenStore | None:

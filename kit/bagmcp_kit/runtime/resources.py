@@ -13,8 +13,6 @@ import time
 from dataclasses import dataclass
 from pathlib import Path
 
-import redis
-
 from bagmcp_kit.runtime.celery_app import CeleryRunner, create_celery
 from bagmcp_shared.access import (
     BagAccess,
@@ -28,7 +26,7 @@ from bagmcp_shared.budget import use_input_budget
 from bagmcp_shared.catalog import Catalog, MemoryCatalog, RedisCatalog
 from bagmcp_shared.errors import StorageError
 from bagmcp_shared.jobs import JobStore, MemoryJobStore, RedisJobStore
-from bagmcp_shared.redis_errors import responds_to_ping
+from bagmcp_shared.redis_connection import redis_client, wait_for_redis
 from bagmcp_shared.scratch import use_scratch
 from bagmcp_shared.settings import (
     DEFAULT_INPUT_BUDGET,
@@ -128,20 +126,6 @@ def s3_store(settings: S3Settings, *, wait_s: float = 60.0) -> S3Store:
                 raise
             log.warning("waiting for the object store: %s", err)
             time.sleep(1.0)
-
-
-def redis_client(url: str) -> redis.Redis:
-    return redis.Redis.from_url(url, socket_connect_timeout=3, socket_timeout=10, health_check_interval=30)
-
-
-def wait_for_redis(client: redis.Redis, *, wait_s: float = 60.0) -> None:
-    """Return once Redis answers; waits up to ``wait_s`` for a server that is still starting."""
-    deadline = time.monotonic() + wait_s
-    while not responds_to_ping(client):
-        if time.monotonic() > deadline:
-            raise StorageError(f"Redis does not answer after {wait_s:.0f} s; is it running?")
-        log.warning("waiting for Redis")
-        time.sleep(1.0)
 
 
 def team_resources(settings: TeamSettings, *, queue: str) -> Resources:

@@ -227,6 +227,19 @@ def test_the_library_imports_no_celery() -> None:
     assert [name for name in dependencies if name.startswith("celery")] == []
 
 
+def test_the_gateway_runs_no_celery_so_imports_no_runtime() -> None:
+    """The gateway reaches Redis through the library; the kit's runtime would import Celery at its start."""
+    files = list(sources("bagmcp_gateway"))
+    assert len(files) > 10
+    using = {
+        str(path.relative_to(ROOT))
+        for path, module in files
+        for name in imported_modules(path, module)
+        if name.split(".")[0] == "celery" or name.startswith("bagmcp_kit.runtime")
+    }
+    assert using == set()
+
+
 def test_the_checks_see_a_circle_an_arrow_up_and_celery(tmp_path: Path) -> None:
     package = tmp_path / "probe"
     (package / "low").mkdir(parents=True)

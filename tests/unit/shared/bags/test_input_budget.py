@@ -5,16 +5,17 @@ run in tests/integration/test_memory_capped.py, in a process whose address space
 
 from __future__ import annotations
 
+import io
 import sqlite3
 import tracemalloc
 from pathlib import Path
 
 import pytest
 import zstandard
-from mcap.writer import Writer
+from mcap.writer import CompressionType, Writer
 
 from bagmcp_shared import budget
-from bagmcp_shared.bags import open_bag
+from bagmcp_shared.bags import BagFormat, open_bag, open_stream
 from bagmcp_shared.bags.user_yaml import UserYamlError, load_user_yaml, refuse_aliases
 from bagmcp_shared.errors import UnsupportedFormatError
 from bagmcp_shared.settings import InputBudget
@@ -146,3 +147,49 @@ def test_an_lz4_chunk_within_the_budget_is_read(tmp_path: Path) -> None:
     path = write_mcap_chunk_bomb(tmp_path / "fine.mcap", expanded=EXPANDED, compression="lz4")
     with open_bag(path) as bag:
         assert [len(m.data) for m in bag.messages()] == [EXPANDED]
+
+
+class _RangedLike(io.BytesIO):
+    """A file read by range, as team mode's: it takes chunk hints and remembers where each read began."""
+
+    def __init__(self, data: bytes) -> None:
+        super().__init__(data)
+        self.read_at: list[int] = []
+
+    def hint_records(self, spans: list[tuple[int, int]]) -> None:
+        self.spans = spans
+
+    def read(self, size: int | None = -1, /) -> bytes:
+        self.read_at.append(self.tell())
+        return super().read(size)
+
+
+def _chunked_mcap(path: Path, chunks: int) -> Path:
+    with path.open("wb") as file:
+        writer = Writer(file, chunk_size=1024, compression=CompressionType.ZSTD)
+        writer.start(profile="ros2", library="test")
+        schema = writer.register_schema("std_msgs/msg/String", "ros2msg", b"string data")
+        channel = writer.register_channel("/text", "cdr", schema)
+        for i in range(chunks):
+            writer.add_message(channel, log_time=i * 10**9, publish_time=i * 10**9, data=bytes(2048))
+        writer.finish()  # type: ignore[no-untyped-call]
+    return path
+
+
+def test_a_ranged_mcap_checks_its_chunk_index_without_reading_each_chunk(tmp_path: Path) -> None:
+    """Ingest read the same bytes whole (their ETag pins them); fetching every chunk's head again would cost
+    one block per chunk, about the whole bag."""
+    path = _chunked_mcap(tmp_path / "many.mcap", chunks=20)
+    stream = _RangedLike(path.read_bytes())
+    with open_stream(path, stream, size=path.stat().st_size, fmt=BagFormat.MCAP) as bag:
+        assert len(stream.spans) == 20
+        inside = [at for at in stream.read_at for start, end in stream.spans if start <= at < end]
+        assert inside == []  # no chunk was read to open the bag
+        assert len(list(bag.messages())) == 20  # and every chunk reads when asked
+
+
+def test_a_ranged_mcap_is_still_refused_when_its_index_declares_too_much(tmp_path: Path, small_budget: None) -> None:
+    path = write_mcap_chunk_bomb(tmp_path / "bomb.mcap", expanded=EXPANDED)
+    stream = _RangedLike(path.read_bytes())
+    with pytest.raises(UnsupportedFormatError, match=r"bomb\.mcap: the zstd chunk at byte 36 declares 4,194,"):
+        open_stream(path, stream, size=path.stat().st_size, fmt=BagFormat.MCAP)

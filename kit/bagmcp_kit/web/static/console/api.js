@@ -72,10 +72,9 @@
     return { promise, cancel: () => xhr.abort() };
   }
 
-  /* Read one JSON-RPC answer from a JSON or SSE response; progress notifications go to onProgress. */
-  async function rpcAnswer(response, id, onProgress) {
-    const type = response.headers.get("content-type") || "";
-    if (!type.includes("text/event-stream")) return response.json();
+  /* The pieces of a streamed body cut at `separator` ("\n" for JSON lines, "\n\n" for SSE events), each
+     given to onPiece as it arrives; onPiece returns true to stop reading. True when it stopped, false at the end. */
+  async function eachPiece(response, separator, onPiece) {
     const reader = response.body.getReader();
     const decoder = new TextDecoder();
     let buffer = "";
@@ -83,16 +82,29 @@
       const { done, value } = await reader.read();
       if (value) buffer += decoder.decode(value, { stream: true });
       let cut;
-      while ((cut = buffer.indexOf("\n\n")) >= 0) {
-        const event = buffer.slice(0, cut); buffer = buffer.slice(cut + 2);
-        const data = event.split("\n").filter((l) => l.startsWith("data:")).map((l) => l.slice(5).trim()).join("\n");
-        if (!data) continue;
-        const message = JSON.parse(data);
-        if (message.id === id) { reader.cancel(); return message; }
-        if (message.method === "notifications/progress" && onProgress) onProgress(message.params);
+      while ((cut = buffer.indexOf(separator)) >= 0) {
+        const piece = buffer.slice(0, cut); buffer = buffer.slice(cut + separator.length);
+        if (onPiece(piece)) { reader.cancel(); return true; }
       }
-      if (done) throw new ApiError(502, "no_answer", "the server closed the stream without an answer");
+      if (done) return false;
     }
+  }
+
+  /* Read one JSON-RPC answer from a JSON or SSE response; progress notifications go to onProgress. */
+  async function rpcAnswer(response, id, onProgress) {
+    const type = response.headers.get("content-type") || "";
+    if (!type.includes("text/event-stream")) return response.json();
+    let answer = null;
+    await eachPiece(response, "\n\n", (event) => {
+      const data = event.split("\n").filter((l) => l.startsWith("data:")).map((l) => l.slice(5).trim()).join("\n");
+      if (!data) return false;
+      const message = JSON.parse(data);
+      if (message.id === id) { answer = message; return true; }
+      if (message.method === "notifications/progress" && onProgress) onProgress(message.params);
+      return false;
+    });
+    if (answer === null) throw new ApiError(502, "no_answer", "the server closed the stream without an answer");
+    return answer;
   }
 
   /* tools/call on the 2026-07-28 protocol (one POST, no session); the CallToolResult in its wire form. */
@@ -130,7 +142,7 @@
   }
 
   ns.api = {
-    open: false, ApiError, token, setToken, signOut, request, upload, callTool, callToolOk, resultText,
+    open: false, ApiError, token, setToken, signOut, request, upload, callTool, callToolOk, resultText, eachPiece,
     get: (path) => request("GET", path), del: (path) => request("DELETE", path), post: (path, body) => request("POST", path, body),
   };
 })(window.BagViews = window.BagViews || {});

@@ -47,19 +47,10 @@
       try { message = (await response.json()).error.message; } catch (_) { /* keep the status text */ }
       throw new ns.api.ApiError(response.status, "lab", message);
     }
-    const reader = response.body.getReader();
-    const decoder = new TextDecoder();
-    let buffer = "";
-    for (;;) {
-      const { done, value } = await reader.read();
-      if (value) buffer += decoder.decode(value, { stream: true });
-      let cut;
-      while ((cut = buffer.indexOf("\n")) >= 0) {
-        const line = buffer.slice(0, cut); buffer = buffer.slice(cut + 1);
-        if (line.trim()) onEvent(JSON.parse(line));
-      }
-      if (done) return;
-    }
+    await ns.api.eachPiece(response, "\n", (line) => {
+      if (line.trim()) onEvent(JSON.parse(line));
+      return false;
+    });
   }
 
   /* A file from the Lab's API (figures, results.json) as an object URL; the token goes in a header. */
