@@ -103,6 +103,11 @@ class RangedFile(io.BufferedIOBase):
         """The object's size in bytes (the HEAD's when the catalog recorded none)."""
         return self._stored.size
 
+    @property
+    def identity(self) -> str:
+        """What the stored content is: a hash of its bucket, key and ETag (its blocks' directory name)."""
+        return self._obj
+
     def hint_records(self, spans: list[tuple[int, int]]) -> None:
         """Tell the file the byte spans of records that are read whole (a bag's chunks, from its index):
         a miss inside one then fetches the rest of it in the same request (a chunk's header and body are

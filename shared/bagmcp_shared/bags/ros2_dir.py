@@ -15,7 +15,7 @@ from bagmcp_shared.bags.detect import sniff_file
 from bagmcp_shared.bags.mcap_source import McapSource
 from bagmcp_shared.bags.models import BagFormat, Compression, Connection, RawMessage
 from bagmcp_shared.bags.source import MergedSource, MessageSource
-from bagmcp_shared.bags.sqlite3_source import Sqlite3Source
+from bagmcp_shared.bags.sqlite3_source import KnownTopics, Sqlite3Source
 from bagmcp_shared.bags.user_yaml import UserYamlError, load_user_yaml, read_user_yaml
 from bagmcp_shared.budget import check_record, input_budget
 from bagmcp_shared.errors import DamagedBagError, UnsupportedFormatError
@@ -223,13 +223,19 @@ def open_directory(
 
 
 def open_directory_streams(
-    directory: Path, metadata: bytes | None, storage: Mapping[str, tuple[BinaryIO, int]], stack: ExitStack
-) -> tuple[MessageSource, list[Path]]:
-    """A ROS 2 bag directory whose storage files are MCAP files read through seekable streams (team mode
-    reads them where they are stored, by byte ranges): ``metadata`` is metadata.yaml's bytes (None when the
-    directory has none), ``storage`` maps each storage file's name to (stream, size). The streams are
-    closed with ``stack``. zstd-compressed storage files (compression_mode: file) are not read this way:
-    they are decompressed whole first, by ``open_directory``."""
+    directory: Path,
+    metadata: bytes | None,
+    storage: Mapping[str, tuple[BinaryIO, int]],
+    stack: ExitStack,
+    *,
+    known: KnownTopics | None = None,
+) -> tuple[MessageSource, BagFormat, list[Path]]:
+    """A ROS 2 bag directory whose storage files (MCAP or sqlite3) are read through seekable streams (team
+    mode reads them where they are stored, by byte ranges): ``metadata`` is metadata.yaml's bytes (None when
+    the directory has none), ``storage`` maps each storage file's name to (stream, size). ``known`` is the
+    catalog's count and first/last time of each topic: a sole sqlite3 file takes them instead of scanning
+    all its rows. The streams are closed with ``stack``. zstd-compressed storage files (compression_mode:
+    file) are not read this way: they are decompressed whole first, by ``open_directory``."""
     for stream, _ in storage.values():
         stack.callback(stream.close)
     path = directory / "metadata.yaml"
@@ -242,11 +248,18 @@ def open_directory_streams(
         raise DamagedBagError(f"{directory}: storage files listed in metadata.yaml are missing: {missing}")
     sources: list[MessageSource] = []
     for name in names:
-        stream, size = storage[name]
-        source = McapSource(directory / name, stream=stream, size=size)
+        source = _stream_source(directory / name, storage[name], known if len(names) == 1 else None)
         stack.callback(source.close)
         sources.append(_DecompressedMessages(source) if mode == "message" else source)
     conns = [c for s in sources for c in s.connections]
     compression = Compression.ZSTD_MESSAGE if mode == "message" else None
     merged = MergedSource(sources, notes=_disagreements(info, conns), compression=compression)
-    return merged, [directory / name for name in names]
+    sqlite3 = all(name.endswith(".db3") for name in names) and bool(names)
+    return merged, BagFormat.ROS2_SQLITE3 if sqlite3 else BagFormat.ROS2_MCAP, [directory / name for name in names]
+
+
+def _stream_source(path: Path, stream: tuple[BinaryIO, int], known: KnownTopics | None) -> MessageSource:
+    """A storage file read through ``stream``: sqlite3 by its name (``.db3``), else MCAP."""
+    if path.suffix == ".db3":
+        return Sqlite3Source(path, stream=stream, known=known)
+    return McapSource(path, stream=stream[0], size=stream[1])

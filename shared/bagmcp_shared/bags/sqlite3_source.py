@@ -1,4 +1,5 @@
-"""ROS 2 sqlite3 storage files (``.db3``), read with the standard library's sqlite3.
+"""ROS 2 sqlite3 storage files (``.db3``): a local file read with the standard library's sqlite3, a stored
+one through a stream with apsw (see sqlite3_stream.py); the same queries either way.
 
 The storage file is the truth: topics, counts and definitions come from its tables, not from
 ``metadata.yaml`` (which real bags sometimes contradict).
@@ -9,32 +10,55 @@ from __future__ import annotations
 import sqlite3
 import threading
 from collections import OrderedDict
-from collections.abc import Collection, Iterator, Sequence
+from collections.abc import Collection, Iterable, Iterator, Mapping, Sequence
 from contextlib import suppress
 from pathlib import Path
+from typing import Any, BinaryIO, Protocol
+
+import apsw
 
 from bagmcp_shared.bags.models import Compression, Connection, Encoding, RawMessage
+from bagmcp_shared.bags.sqlite3_stream import connect_stream
 from bagmcp_shared.errors import DamagedBagError, UnsupportedFormatError
 
 _DEFINITION_FORMATS = {"ros2msg": "msg", "ros2idl": "idl"}
+_DB_ERRORS = (sqlite3.Error, apsw.Error)
 
 
-def _connect(path: Path) -> sqlite3.Connection:
-    uri = f"{path.resolve().as_uri()}?mode=ro"
+class Database(Protocol):
+    """What is used of a connection: sqlite3's and apsw's both have it."""
+
+    def execute(self, sql: str, params: Sequence[Any] = ..., /) -> Iterable[Any]: ...
+
+    def close(self) -> None: ...
+
+
+def _checked(path: Path, db: Database) -> Database:
+    """``db`` once its two tables answer; closed and a DamagedBagError naming ``path`` when they do not."""
     try:
-        db = sqlite3.connect(uri, uri=True, check_same_thread=False)
-        db.execute("SELECT 1 FROM messages LIMIT 1").fetchall()
-        db.execute("SELECT 1 FROM topics LIMIT 1").fetchall()
-    except sqlite3.Error as err:
+        list(db.execute("SELECT 1 FROM messages LIMIT 1"))
+        list(db.execute("SELECT 1 FROM topics LIMIT 1"))
+    except _DB_ERRORS as err:
+        db.close()
         raise DamagedBagError(f"{path}: not a readable ROS 2 sqlite3 bag ({err})") from err
     return db
 
 
-def _columns(db: sqlite3.Connection, table: str) -> set[str]:
+def _connect(path: Path, stream: tuple[BinaryIO, int] | None) -> Database:
+    """The local file at ``path`` (sqlite3, read-only), or the database in ``stream`` (apsw, immutable)."""
+    try:
+        if stream is not None:
+            return _checked(path, connect_stream(*stream))
+        return _checked(path, sqlite3.connect(f"{path.resolve().as_uri()}?mode=ro", uri=True, check_same_thread=False))
+    except _DB_ERRORS as err:
+        raise DamagedBagError(f"{path}: not a readable ROS 2 sqlite3 bag ({err})") from err
+
+
+def _columns(db: Database, table: str) -> set[str]:
     return {str(row[1]) for row in db.execute(f"PRAGMA table_info({table})")}
 
 
-def _definitions(db: sqlite3.Connection) -> dict[str, tuple[str, str]]:
+def _definitions(db: Database) -> dict[str, tuple[str, str]]:
     if "topic_type" not in _columns(db, "message_definitions"):
         return {}
     rows = db.execute("SELECT topic_type, encoding, encoded_message_definition FROM message_definitions")
@@ -46,6 +70,7 @@ def _definitions(db: sqlite3.Connection) -> dict[str, tuple[str, str]]:
 
 
 TopicStats = dict[int, tuple[int, int, int]]  # topic id -> (count, first ns, last ns)
+KnownTopics = Mapping[str, tuple[int, int | None, int | None]]  # topic name -> (count, first ns, last ns)
 _STATS: OrderedDict[tuple[object, ...], TopicStats] = OrderedDict()
 _STATS_LOCK = threading.Lock()
 _STATS_KEPT = 64
@@ -61,12 +86,18 @@ def _file_key(path: Path) -> tuple[object, ...]:
     return tuple(parts)
 
 
-def topic_stats(db: sqlite3.Connection, path: Path) -> TopicStats:
+def _stream_key(stream: BinaryIO) -> tuple[object, ...] | None:
+    """Identity of a stream's content when the stream tells it (``RangedFile.identity``: the object and
+    its ETag), else None (then nothing is remembered)."""
+    identity = getattr(stream, "identity", None)
+    return ("stream", identity) if isinstance(identity, str) and identity else None
+
+
+def topic_stats(db: Database, key: tuple[object, ...] | None) -> TopicStats:
     """Per-topic count and first/last timestamps. The table has no topic index, so this scans every
-    row: done once per file content and process, not on every open."""
-    key = _file_key(path)
+    row (every page of the file): done once per file content (``key``) and process, not on every open."""
     with _STATS_LOCK:
-        if (known := _STATS.get(key)) is not None:
+        if key is not None and (known := _STATS.get(key)) is not None:
             _STATS.move_to_end(key)
             return known
     stats = {
@@ -76,34 +107,61 @@ def topic_stats(db: sqlite3.Connection, path: Path) -> TopicStats:
         )
     }
     with _STATS_LOCK:
-        _STATS[key] = stats
+        if key is not None:
+            _STATS[key] = stats
         while len(_STATS) > _STATS_KEPT:
             _STATS.popitem(last=False)
     return stats
 
 
-class Sqlite3Source:
-    """One ``.db3`` file."""
+def _known_stats(topics: list[tuple[int, str]], known: KnownTopics | None) -> TopicStats | None:
+    """The stats of ``topics`` (id, name) from what the catalog recorded of this very file (``known``),
+    or None when it cannot stand in for the scan (a name twice in the table, or one it lacks)."""
+    names = [name for _, name in topics]
+    if known is None or len(set(names)) != len(names) or any(name not in known for name in names):
+        return None
+    stats: TopicStats = {}
+    for tid, name in topics:
+        count, first, last = known[name]
+        if count and first is not None and last is not None:
+            stats[tid] = (count, first, last)
+    return stats
 
-    def __init__(self, path: Path) -> None:
+
+class Sqlite3Source:
+    """One ``.db3`` file: a local one at ``path``, or one read through ``stream`` (a seekable stream and its
+    size; ``path`` then names it in messages). ``known`` is what the catalog recorded of each topic of this
+    very file (team mode pins the stored file by ETag): it stands in for the one scan of every row that
+    counts messages per topic, which on a stored file would fetch all of it."""
+
+    def __init__(
+        self, path: Path, *, stream: tuple[BinaryIO, int] | None = None, known: KnownTopics | None = None
+    ) -> None:
         self._path = path
-        self._db = _connect(path)
+        self._db = _connect(path, stream)
+        key = _file_key(path) if stream is None else _stream_key(stream[0])
         try:
-            self._connections, self._bounds = self._read_topics()
-        except sqlite3.Error as err:
+            self._connections, self._bounds = self._read_topics(key, known)
+        except _DB_ERRORS as err:
             self._db.close()
             raise DamagedBagError(f"{path}: the sqlite3 tables could not be read ({err})") from err
+        except BaseException:
+            self._db.close()
+            raise
 
-    def _read_topics(self) -> tuple[list[Connection], dict[int, tuple[int, int]]]:
+    def _read_topics(
+        self, key: tuple[object, ...] | None, known: KnownTopics | None
+    ) -> tuple[list[Connection], dict[int, tuple[int, int]]]:
         db = self._db
-        stats = topic_stats(db, self._path)
         has_qos = "offered_qos_profiles" in _columns(db, "topics")
         qos_col = "offered_qos_profiles" if has_qos else "''"
         defs = _definitions(db)
+        rows = list(db.execute(f"SELECT id, name, type, serialization_format, {qos_col} FROM topics ORDER BY id"))
+        stats = _known_stats([(int(row[0]), str(row[1])) for row in rows], known)
+        if stats is None:
+            stats = topic_stats(db, key)
         connections: list[Connection] = []
-        for tid, name, typ, fmt, qos in db.execute(
-            f"SELECT id, name, type, serialization_format, {qos_col} FROM topics ORDER BY id"
-        ):
+        for tid, name, typ, fmt, qos in rows:
             if str(fmt) != "cdr":
                 raise UnsupportedFormatError(
                     f"{self._path}: topic {name} uses serialization format {fmt!r}; only 'cdr' can be read"
@@ -150,7 +208,7 @@ class Sqlite3Source:
         try:
             for tid, timestamp, data in self._db.execute(query, args):
                 yield RawMessage(by_id[int(tid)], int(timestamp), bytes(data))
-        except sqlite3.Error as err:
+        except _DB_ERRORS as err:
             raise DamagedBagError(f"{self._path}: messages could not be read ({err})") from err
 
     def close(self) -> None:
