@@ -19,6 +19,7 @@ import pytest
 from mcap.writer import CompressionType, Writer
 from rosbags.rosbag1 import Writer as Ros1Writer
 from rosbags.rosbag2 import CompressionMode, StoragePlugin
+from rosbags.rosbag2 import Writer as Ros2Writer
 from rosbags.typesys import Stores, get_typestore
 
 from bagmcp_bag_store.ingest.content import content_id
@@ -88,16 +89,42 @@ def write_padded_ros1(path: Path, compression: str, *, seed: int = 21) -> Path:
     return path
 
 
+def write_padded_db3(directory: Path, *, seed: int = 21, count: int = COUNT) -> Path:
+    """The same poses as std_msgs/String in a ROS 2 sqlite3 directory (one .db3 and metadata.yaml): about
+    3.7 MB in 4 KiB pages, its timestamp index beside the rows."""
+    rng = random.Random(seed)
+    store = get_typestore(Stores.ROS2_HUMBLE)
+    typename = "std_msgs/msg/String"
+    string = store.types[typename]
+    with Ros2Writer(directory, version=9, storage_plugin=StoragePlugin.SQLITE3) as writer:
+        pose = writer.add_connection("/pose", typename, typestore=store)
+        status = writer.add_connection("/status", typename, typestore=store)
+        for i in range(count):
+            t = START_NS + i * PERIOD_NS
+            body = json.dumps({"seq": i, "x": i / 100, "pad": rng.randbytes(512).hex()})
+            writer.write(pose, t, store.serialize_cdr(string(data=body), typename))
+            if i % 10 == 0:
+                status_body = json.dumps({"seq": i, "mode": "auto"})
+                writer.write(status, t, store.serialize_cdr(string(data=status_body), typename))
+    return directory
+
+
 @pytest.fixture(scope="module")
 def local_mcap(tmp_path_factory: pytest.TempPathFactory) -> Path:
     return write_padded_mcap(tmp_path_factory.mktemp("ranged") / "padded.mcap")
 
 
-@pytest.fixture(scope="module", params=["mcap", "ros1-none", "ros1-bz2", "ros1-lz4"])
+@pytest.fixture(scope="module")
+def local_db3(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    return write_padded_db3(tmp_path_factory.mktemp("ranged") / "padded_db3")
+
+
+@pytest.fixture(scope="module", params=["mcap", "ros1-none", "ros1-bz2", "ros1-lz4", "ros2-db3"])
 def local_bag(request: pytest.FixtureRequest, tmp_path_factory: pytest.TempPathFactory) -> Path:
-    """The padded bag as a bare MCAP and as ROS 1 bags of each chunk compression."""
-    if request.param == "mcap":
-        path: Path = request.getfixturevalue("local_mcap")
+    """The padded bag as a bare MCAP, as ROS 1 bags of each chunk compression and as a ROS 2 sqlite3
+    directory."""
+    if request.param in ("mcap", "ros2-db3"):
+        path: Path = request.getfixturevalue("local_mcap" if request.param == "mcap" else "local_db3")
         return path
     compression = str(request.param).removeprefix("ros1-")
     return write_padded_ros1(tmp_path_factory.mktemp("ranged") / f"padded-{compression}.bag", compression)
@@ -201,9 +228,13 @@ def ros2_directory(kind: str, corpus: Path, work: Path) -> Path:
         "ros2_mcap/rosbag2_cdr_test",
         "mcap-zstd",  # zstd chunks
         "mcap-zstd-message",  # compression_mode: message
+        "ros2_db3/rosbag2_cdr_test",  # sqlite3 storage
+        "ros2_db3/plotjuggler_imu_pose_battery",  # recorded with -shm/-wal side files, which are not stored
+        "ros2_db3/rosbag2_service_events",
+        "sqlite3-zstd-message",
     ],
 )
-def test_a_ros2_directory_of_mcap_files_is_read_by_range_and_ingest_keeps_no_whole_copy(
+def test_a_ros2_directory_of_mcap_or_sqlite3_files_is_read_by_range_and_ingest_keeps_no_whole_copy(
     store: S3Store, corpus: Path, kind: str, tmp_path: Path
 ) -> None:
     local = ros2_directory(kind, corpus, tmp_path / "written")
@@ -256,8 +287,8 @@ def test_a_changed_file_of_a_ros2_directory_is_an_error_naming_the_bag(
         pass
 
 
-@pytest.mark.parametrize("kind", ["ros2_db3/rosbag2_cdr_test", "mcap-zstd-file"])
-def test_sqlite3_and_zstd_file_directories_are_still_copied_whole_and_answer_right(
+@pytest.mark.parametrize("kind", ["mcap-zstd-file", "sqlite3-zstd-file"])
+def test_zstd_file_directories_are_still_copied_whole_and_answer_right(
     store: S3Store, corpus: Path, kind: str, tmp_path: Path
 ) -> None:
     local = ros2_directory(kind, corpus, tmp_path / "written")
@@ -314,6 +345,34 @@ def test_an_object_changed_under_the_catalog_is_an_error_naming_the_bag(
     catalog.replace(unrecorded)
     other = BagAccess(catalog, RangedBagFiles(store, tmp_path / "c", max_bytes=1 << 30, reads=ROOMY))
     with pytest.raises(DamagedBagError, match=r"bag changing changed .*the catalog recorded"), other.open("changing"):
+        pass
+
+
+def test_a_changed_sqlite3_file_is_an_error_naming_the_bag_while_open_and_on_open(
+    store: S3Store, local_db3: Path, tmp_path: Path
+) -> None:
+    catalog = MemoryCatalog()
+    record = shelve(store, catalog, local_db3, tmp_path, name="pages")
+    name = next(n for n in record.files if n.endswith(".db3"))
+    opened = BagAccess(catalog, RangedBagFiles(store, tmp_path / "a", max_bytes=1 << 30, reads=ROOMY))
+    with opened.open("pages") as bag:  # open now: SQLite's file keeps the ETag it was opened with
+        bag.nearest("/pose", START_NS)
+    altered = bytearray((local_db3 / name).read_bytes())
+    altered[len(altered) // 2] ^= 0xFF  # the same size, other bytes (inside a page of rows)
+    store.put_bytes(keys.bag_file(record.id, name), bytes(altered))
+
+    fresh = BagAccess(catalog, RangedBagFiles(store, tmp_path / "b", max_bytes=1 << 30, reads=ROOMY))
+    with pytest.raises(DamagedBagError, match=r"bag pages changed in the object store .*ETag"), fresh.open("pages"):
+        pass
+    with (
+        pytest.raises(DamagedBagError, match="bag pages changed in the object store"),
+        opened.open("pages") as bag,
+    ):
+        list(bag.reader.messages(["/pose"]))  # pages not read before come back with another ETag
+    store.put_bytes(keys.bag_file(record.id, name), bytes(altered[:-4096]))  # a page shorter
+    catalog.replace(record.model_copy(update={"etags": {}}))  # a bag stored before ETags were recorded
+    other = BagAccess(catalog, RangedBagFiles(store, tmp_path / "c", max_bytes=1 << 30, reads=ROOMY))
+    with pytest.raises(DamagedBagError, match=r"bag pages changed .*bytes in all, the catalog"), other.open("pages"):
         pass
 
 
