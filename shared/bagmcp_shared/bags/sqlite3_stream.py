@@ -5,11 +5,14 @@ the object store before its first answer. apsw (a maintained SQLite binding) let
 file reads: one process-wide VFS, ``bagmcp-stream``, whose files read pages from the stream they were
 opened with (team mode's ``RangedFile``: byte ranges through the host's block cache). SQLite reads a
 page at a page-aligned offset (``page_size``, 4 KiB in rosbag2's files); a page in a block that is not
-on disk fetches that whole block (``BAGMCP_BLOCK_BYTES``), so the cost of a query is the blocks its
-b-tree pages fall in, not the pages: a point read walks the timestamp index and the table (a few pages
-each, mostly in different blocks) and fetches a few blocks. Measured on a generated 305 MB ``.db3``
-(500 000 messages of 600 bytes, one topic, 1 MiB blocks): opening it with the catalog's topic stats and
-one ``get_message_at_time`` fetched 5 MB (1.6 % of the file).
+on disk fetches that whole block (``BAGMCP_BLOCK_BYTES``), so a query costs the blocks its b-tree pages fall
+in, not the pages: a point read walks the timestamp index and the rows it points to (a few pages each).
+Measured on a generated 317.6 MB ``.db3`` (450 000 strings of 600 bytes on one topic, 45 000 on another):
+opening it with the catalog's topic stats fetched 2.1 MB and a point read 2.1 MB more with 1 MiB blocks
+(4.2 MB, 1.3 % of the file), 0.2 + 0.26 MB with 64 KiB blocks. Without those stats the per-topic count
+scans every row, which fetches the whole file (317.6 MB, streamed through the bounded cache, nothing kept
+whole): a ROS 2 directory split into several ``.db3`` files pays that once per file and process. A file
+without rosbag2's ``timestamp_idx`` makes every time window a scan too.
 
 The database is opened read-only with ``immutable=1`` and the file says it is immutable
 (``SQLITE_IOCAP_IMMUTABLE``): SQLite takes no locks and never looks for a ``-wal`` or ``-journal`` file
@@ -83,15 +86,22 @@ class _StreamVfs(apsw.VFS):
     everything else (time, randomness) is the default VFS's."""
 
     def __init__(self) -> None:
-        super().__init__(VFS_NAME)
+        super().__init__(VFS_NAME, "")  # "": the default VFS for what is not overridden
         self.pending: dict[str, _StreamFile] = {}
         self.guard = threading.Lock()
 
-    def xOpen(self, name: str | apsw.URIFilename | None, flags: list[int]) -> _StreamFile:  # type: ignore[override]  # noqa: N802
+    def xOpen(  # type: ignore[override]  # noqa: N802
+        self, name: str | apsw.URIFilename | None, flags: list[int]
+    ) -> _StreamFile | apsw.VFSFile:
+        """A registered bag file; or, for a file without a name, SQLite's own scratch file on local disk
+        (the default VFS's, deleted when closed): a GROUP BY that sorts more rows than fit in memory spills
+        there (the per-topic count spills topic ids and timestamps, never message data)."""
+        if name is None:
+            return super().xOpen(name, flags)
         filename = name.filename() if isinstance(name, apsw.URIFilename) else name
         with self.guard:
-            found = self.pending.pop(filename or "", None)
-        if found is None:  # a journal or temp file: an immutable read-only database never opens one
+            found = self.pending.pop(filename, None)
+        if found is None:  # a journal or WAL: an immutable read-only database never opens one
             raise OSError(f"{filename}: only stored bag files are opened through {VFS_NAME}")
         return found
 
