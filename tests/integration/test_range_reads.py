@@ -7,6 +7,8 @@ import hashlib
 import json
 import random
 import secrets
+import shutil
+import sqlite3
 from collections.abc import Iterator
 from concurrent.futures import ProcessPoolExecutor
 from contextlib import ExitStack
@@ -298,6 +300,44 @@ def test_zstd_file_directories_are_still_copied_whole_and_answer_right(
     with BagAccess(catalog, files).open("whole") as bag, open_bag(local) as embedded:
         assert all_messages(bag.reader) == all_messages(embedded)
     assert (tmp_path / "service-cache" / record.id / record.files[-1]).is_file()  # opened by path
+    assert files.blocks.counters.fetched_bytes == 0
+
+
+def test_a_db3_stored_with_its_wal_file_is_copied_whole_and_the_rows_in_the_wal_are_read(
+    store: S3Store, local_db3: Path, tmp_path: Path
+) -> None:
+    """A directory without metadata.yaml keeps every file it came with: a ``-wal`` holding committed rows
+    the database file lacks is read from a whole copy, as the local directory is read, never by range."""
+    recorded = tmp_path / "recorded"
+    recorded.mkdir()
+    name = next(local_db3.glob("*.db3")).name
+    shutil.copy(local_db3 / name, recorded / name)
+    live = sqlite3.connect(recorded / name)
+    live.execute("PRAGMA journal_mode=WAL")
+    live.execute("PRAGMA wal_autocheckpoint=0")
+    live.execute(
+        "INSERT INTO messages (topic_id, timestamp, data) SELECT topic_id, timestamp + 60000000000, data "
+        "FROM messages WHERE id <= 50"
+    )
+    live.commit()
+    stored = tmp_path / "with_wal"
+    stored.mkdir()
+    for member in (name, f"{name}-wal"):
+        shutil.copy(recorded / member, stored / member)  # while the writer is open: the rows are in the WAL
+    live.close()
+    names = sorted(p.name for p in stored.iterdir())
+    assert names == [name, f"{name}-wal"]
+    catalog = MemoryCatalog()
+    record, _ = Shelf(catalog, store).register(
+        stored, names, content_id([stored / n for n in names], directory=True), name="walled", tags=[]
+    )
+    files = RangedBagFiles(store, tmp_path / "cache", max_bytes=1 << 30, reads=ROOMY)
+    assert Ingestor(catalog, files, files, store).ingest(record.id) == "ready"
+    with BagAccess(catalog, files).open("walled") as bag, open_bag(stored) as embedded:
+        expected = all_messages(embedded)
+        assert len(expected) == COUNT + COUNT // 10 + 50
+        assert all_messages(bag.reader) == expected
+    assert (tmp_path / "cache" / record.id / name).is_file()  # opened by path, beside its -wal
     assert files.blocks.counters.fetched_bytes == 0
 
 

@@ -98,7 +98,9 @@ METADATA = "metadata.yaml"
 
 def ranged(record: BagRecord) -> bool:
     """Whether the bag is read by range: ingested, and a single bare MCAP file or ROS 1 bag, or a ROS 2
-    directory whose storage files are all uncompressed-by-file MCAP (``.mcap``) or sqlite3 (``.db3``) files."""
+    directory whose storage files are all uncompressed-by-file MCAP (``.mcap``) or sqlite3 (``.db3``) files.
+    A directory stored with other files (one without metadata.yaml keeps all it came with) stays copied
+    whole: a ``.db3-wal`` beside its database holds rows SQLite reads from a local copy, and ingest counted."""
     if record.summary is None:
         return False
     if record.layout == "file":
