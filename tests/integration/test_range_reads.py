@@ -11,7 +11,7 @@ import shutil
 import sqlite3
 from collections.abc import Iterator
 from concurrent.futures import ProcessPoolExecutor
-from contextlib import ExitStack
+from contextlib import ExitStack, closing
 from dataclasses import replace
 from multiprocessing import get_context
 from pathlib import Path
@@ -301,6 +301,26 @@ def test_zstd_file_directories_are_still_copied_whole_and_answer_right(
         assert all_messages(bag.reader) == all_messages(embedded)
     assert (tmp_path / "service-cache" / record.id / record.files[-1]).is_file()  # opened by path
     assert files.blocks.counters.fetched_bytes == 0
+
+
+@pytest.mark.parametrize("page_bytes", [1024, 65536])
+def test_sqlite3_pages_smaller_or_larger_than_a_block_answer_right_within_the_cache_bound(
+    store: S3Store, local_db3: Path, tmp_path: Path, page_bytes: int
+) -> None:
+    """SMALL's 16 KiB blocks hold sixteen 1 KiB pages, or a quarter of a 64 KiB page (read as one run)."""
+    local = tmp_path / f"paged_{page_bytes}"
+    shutil.copytree(local_db3, local)
+    with closing(sqlite3.connect(next(local.glob("*.db3")))) as db:
+        db.execute("PRAGMA journal_mode=DELETE")
+        db.execute(f"PRAGMA page_size={page_bytes}")
+        db.execute("VACUUM")
+        assert db.execute("PRAGMA page_size").fetchone() == (page_bytes,)
+    catalog = MemoryCatalog()
+    record = shelve(store, catalog, local, tmp_path, name="paged")
+    files = RangedBagFiles(store, tmp_path / "small-cache", max_bytes=1 << 30, reads=SMALL)
+    assert answers(BagAccess(catalog, files), record.id) == local_answers(local)
+    assert files.blocks.used_bytes() <= SMALL.cache_bytes
+    assert not (tmp_path / "small-cache" / record.id).exists()
 
 
 def test_a_db3_stored_with_its_wal_file_is_copied_whole_and_the_rows_in_the_wal_are_read(
