@@ -18,6 +18,7 @@ from pathlib import Path
 from typing import cast
 
 import pytest
+import yaml
 from mcap.writer import CompressionType, Writer
 from rosbags.rosbag1 import Writer as Ros1Writer
 from rosbags.rosbag2 import CompressionMode, StoragePlugin
@@ -91,9 +92,9 @@ def write_padded_ros1(path: Path, compression: str, *, seed: int = 21) -> Path:
     return path
 
 
-def write_padded_db3(directory: Path, *, seed: int = 21, count: int = COUNT) -> Path:
+def write_padded_db3(directory: Path, *, seed: int = 21, count: int = COUNT, first: int = 0) -> Path:
     """The same poses as std_msgs/String in a ROS 2 sqlite3 directory (one .db3 and metadata.yaml): about
-    3.7 MB in 4 KiB pages, its timestamp index beside the rows."""
+    3.7 MB in 4 KiB pages, its timestamp index beside the rows (poses ``first`` .. ``first + count``)."""
     rng = random.Random(seed)
     store = get_typestore(Stores.ROS2_HUMBLE)
     typename = "std_msgs/msg/String"
@@ -101,13 +102,34 @@ def write_padded_db3(directory: Path, *, seed: int = 21, count: int = COUNT) -> 
     with Ros2Writer(directory, version=9, storage_plugin=StoragePlugin.SQLITE3) as writer:
         pose = writer.add_connection("/pose", typename, typestore=store)
         status = writer.add_connection("/status", typename, typestore=store)
-        for i in range(count):
+        for i in range(first, first + count):
             t = START_NS + i * PERIOD_NS
             body = json.dumps({"seq": i, "x": i / 100, "pad": rng.randbytes(512).hex()})
             writer.write(pose, t, store.serialize_cdr(string(data=body), typename))
             if i % 10 == 0:
                 status_body = json.dumps({"seq": i, "mode": "auto"})
                 writer.write(status, t, store.serialize_cdr(string(data=status_body), typename))
+    return directory
+
+
+def write_split_db3(directory: Path) -> Path:
+    """The padded poses split over two .db3 files of one directory, as rosbag2 splits a long recording
+    (metadata.yaml lists both, with the counts summed)."""
+    halves = [
+        write_padded_db3(directory.with_name(f"{directory.name}-{n}"), count=COUNT // 2, first=n * COUNT // 2)
+        for n in (0, 1)
+    ]
+    directory.mkdir()
+    info = yaml.safe_load((halves[0] / "metadata.yaml").read_text())["rosbag2_bagfile_information"]
+    names = [f"{directory.name}_{n}.db3" for n in (0, 1)]
+    for half, name in zip(halves, names, strict=True):
+        shutil.move(next(half.glob("*.db3")), directory / name)
+    info["relative_file_paths"] = names
+    info["message_count"] *= 2
+    for entry in info["topics_with_message_count"]:
+        entry["message_count"] *= 2
+    info.pop("files", None)
+    (directory / "metadata.yaml").write_text(yaml.safe_dump({"rosbag2_bagfile_information": info}))
     return directory
 
 
@@ -216,6 +238,8 @@ def ros2_directory(kind: str, corpus: Path, work: Path) -> Path:
     if kind.startswith("ros2_"):
         return corpus / kind
     work.mkdir(parents=True, exist_ok=True)
+    if kind == "split-db3":
+        return write_split_db3(work / "split_db3")
     if kind == "mcap-zstd-message":
         write_ros2_compressed(work / "scenario-message", StoragePlugin.MCAP, CompressionMode.MESSAGE)
         return work / "scenario-message"
@@ -234,6 +258,7 @@ def ros2_directory(kind: str, corpus: Path, work: Path) -> Path:
         "ros2_db3/plotjuggler_imu_pose_battery",  # recorded with -shm/-wal side files, which are not stored
         "ros2_db3/rosbag2_service_events",
         "sqlite3-zstd-message",
+        "split-db3",  # two .db3 files
     ],
 )
 def test_a_ros2_directory_of_mcap_or_sqlite3_files_is_read_by_range_and_ingest_keeps_no_whole_copy(
@@ -258,6 +283,23 @@ def test_a_ros2_directory_of_mcap_or_sqlite3_files_is_read_by_range_and_ingest_k
             assert (topic, near.log_time_ns, near.data) in expected
     assert files.blocks.counters.fetched_bytes > 0
     assert not (tmp_path / "service-cache" / record.id).exists()  # no whole copy where it is read either
+
+
+def test_a_split_db3_directory_opens_and_answers_a_point_read_without_reading_its_files_whole(
+    store: S3Store, tmp_path: Path
+) -> None:
+    """The catalog's per-topic totals stand for each file's count (a scan of every row)."""
+    local = write_split_db3(tmp_path / "split_db3")
+    catalog = MemoryCatalog()
+    record = shelve(store, catalog, local, tmp_path, name="split")
+    files = RangedBagFiles(store, tmp_path / "service-cache", max_bytes=1 << 30, reads=ROOMY)
+    with BagAccess(catalog, files).open("split") as bag, open_bag(local) as embedded:
+        near = bag.nearest("/pose", START_NS + 2222 * PERIOD_NS)
+        point = files.blocks.counters.fetched_bytes
+        assert summary_of(bag.reader) == summary_of(embedded)
+        assert not summary_of(bag.reader).notes  # metadata.yaml's counts agree with the catalog's
+    assert near.log_time_ns == START_NS + 2222 * PERIOD_NS
+    assert point < record.size_bytes / 4, f"opening and a point read fetched {point} of {record.size_bytes} bytes"
 
 
 def test_a_bag_whose_ingest_failed_leaves_no_whole_copy(store: S3Store, local_mcap: Path, tmp_path: Path) -> None:

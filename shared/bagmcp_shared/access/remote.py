@@ -6,7 +6,8 @@ chunks that overlap the topic and window; of a ROS 1 bag, its header, the index 
 and chunk infos) and the chunks that overlap; all through the host's block cache, nothing copied whole.
 A ROS 2 directory of MCAP storage files is read the same way per file, metadata.yaml as one small read;
 a sqlite3 storage file (.db3) page by page, as SQLite asks for its pages (bags/sqlite3_stream.py: an apsw
-VFS over the same ranged file), its per-topic counts taken from the catalog instead of a scan of every row.
+VFS over the same ranged file), each topic's count and bounds taken from the catalog instead of a scan of
+every row.
 ROS 2 directories with zstd-compressed (.mcap.zstd, .db3.zstd) storage files are still copied whole by
 ``CachedBagFiles`` (a zstd stream cannot be entered in the middle), as is every bag while it is ingested
 (the copy is dropped afterwards, see ``drop_copy``), and for downloads.
@@ -23,7 +24,7 @@ from bagmcp_shared.access.blocks import BlockCache
 from bagmcp_shared.access.files import CachedBagFiles
 from bagmcp_shared.access.ranged import UNKNOWN_SIZE, RangedFile, RangeStore, StoredFile, changed
 from bagmcp_shared.bags import BagFormat, BagReader, open_directory_stream, open_stream
-from bagmcp_shared.bags.sqlite3_source import KnownTopics
+from bagmcp_shared.bags.source import TopicTotals
 from bagmcp_shared.catalog.models import BagRecord
 from bagmcp_shared.settings import RangeReads
 from bagmcp_shared.storage import ObjectStore
@@ -64,7 +65,7 @@ class RangedBagFiles(CachedBagFiles):
     def _open_directory(self, record: BagRecord, label: Path) -> BagReader:
         """A ROS 2 directory of MCAP or sqlite3 storage files: metadata.yaml read whole (a few KB, through the
         block cache like the rest), each storage file opened by range (its HEAD gives the size the catalog
-        lacks); the catalog's topic stats stand in for a sqlite3 file's scan of every row."""
+        lacks); the catalog's per-topic totals stand in for sqlite3 files' scans of every row."""
         metadata: bytes | None = None
         storage: dict[str, tuple[BinaryIO, int]] = {}
         try:
@@ -84,7 +85,7 @@ class RangedBagFiles(CachedBagFiles):
             for stream, _ in storage.values():
                 stream.close()
             raise
-        return open_directory_stream(label, metadata, storage, known=known_topics(record))
+        return open_directory_stream(label, metadata, storage, totals=topic_totals(record))
 
     def open_file(self, stored: StoredFile) -> RangedFile:
         """A seekable file over ``stored``, read through the block cache."""
@@ -109,7 +110,7 @@ def ranged(record: BagRecord) -> bool:
     return record.summary.format in RANGED_ROS2 and all(name.endswith((".mcap", ".db3")) for name in storage)
 
 
-def known_topics(record: BagRecord) -> KnownTopics | None:
+def topic_totals(record: BagRecord) -> TopicTotals | None:
     """Each topic's count and first/last log time as ingest recorded them (from these very files)."""
     if record.summary is None:
         return None

@@ -18,8 +18,7 @@ from bagmcp_shared.bags.models import BagFormat, BagSummary, Compression, Connec
 from bagmcp_shared.bags.ros1_ranges import Ros1RangeSource
 from bagmcp_shared.bags.ros1_source import Ros1Source
 from bagmcp_shared.bags.ros2_dir import open_directory, open_directory_streams, open_storage_file
-from bagmcp_shared.bags.source import MessageSource
-from bagmcp_shared.bags.sqlite3_source import KnownTopics
+from bagmcp_shared.bags.source import MessageSource, TopicTotals
 from bagmcp_shared.errors import BagError, BagmcpError, DamagedBagError, TopicNotFoundError, UnsupportedFormatError
 
 log = logging.getLogger(__name__)
@@ -255,15 +254,15 @@ def open_directory_stream(
     metadata: bytes | None,
     storage: Mapping[str, tuple[BinaryIO, int]],
     *,
-    known: KnownTopics | None = None,
+    totals: TopicTotals | None = None,
 ) -> BagReader:
     """Open a ROS 2 bag directory of MCAP or sqlite3 storage files, each read through a seekable stream
-    (see ``open_directory_streams``, and ``known`` there); ``name`` stands for the directory in messages.
+    (see ``open_directory_streams``, and ``totals`` there); ``name`` stands for the directory in messages.
     Closing the reader closes the streams."""
     stack = ExitStack()
     try:
         with damage_named(name):
-            source, fmt, files = open_directory_streams(name, metadata, storage, stack, known=known)
+            source, fmt, files = open_directory_streams(name, metadata, storage, stack, totals=totals)
     except BaseException:
         stack.close()
         raise

@@ -10,8 +10,9 @@ from __future__ import annotations
 import sqlite3
 import threading
 from collections import OrderedDict
-from collections.abc import Collection, Iterable, Iterator, Mapping, Sequence
+from collections.abc import Collection, Iterable, Iterator, Sequence
 from contextlib import suppress
+from dataclasses import replace
 from pathlib import Path
 from typing import Any, BinaryIO, Protocol
 
@@ -70,13 +71,12 @@ def _definitions(db: Database) -> dict[str, tuple[str, str]]:
 
 
 TopicStats = dict[int, tuple[int, int, int]]  # topic id -> (count, first ns, last ns)
-KnownTopics = Mapping[str, tuple[int, int | None, int | None]]  # topic name -> (count, first ns, last ns)
 _STATS: OrderedDict[tuple[object, ...], TopicStats] = OrderedDict()
 _STATS_LOCK = threading.Lock()
 _STATS_KEPT = 64
 
 
-def _file_key(path: Path) -> tuple[object, ...]:
+def file_key(path: Path) -> tuple[object, ...]:
     """Identity of a storage file's content: path, size and mtime, with its WAL file if any."""
     parts: list[object] = [str(path.resolve())]
     for member in (path, path.with_name(path.name + "-wal")):
@@ -114,34 +114,22 @@ def topic_stats(db: Database, key: tuple[object, ...] | None) -> TopicStats:
     return stats
 
 
-def _known_stats(topics: list[tuple[int, str]], known: KnownTopics | None) -> TopicStats | None:
-    """The stats of ``topics`` (id, name) from what the catalog recorded of this very file (``known``),
-    or None when it cannot stand in for the scan (a name twice in the table, or one it lacks)."""
-    names = [name for _, name in topics]
-    if known is None or len(set(names)) != len(names) or any(name not in known for name in names):
-        return None
-    stats: TopicStats = {}
-    for tid, name in topics:
-        count, first, last = known[name]
-        if count and first is not None and last is not None:
-            stats[tid] = (count, first, last)
-    return stats
-
-
 class Sqlite3Source:
     """One ``.db3`` file: a local one at ``path``, or one read through ``stream`` (a seekable stream and its
-    size; ``path`` then names it in messages). ``known`` is what the catalog recorded of each topic of this
-    very file (team mode pins the stored file by ETag): it stands in for the one scan of every row that
-    counts messages per topic, which on a stored file would fetch all of it."""
+    size; ``path`` then names it in messages). Opened with ``counted=False`` it does not count each topic's
+    messages, a scan of every row that on a stored file fetches all of it: its connections then hold no
+    count and it knows no bounds, until ``count_rows`` (whoever opens it so has the counts from elsewhere:
+    team mode from the catalog, see ``MergedSource``'s totals)."""
 
-    def __init__(
-        self, path: Path, *, stream: tuple[BinaryIO, int] | None = None, known: KnownTopics | None = None
-    ) -> None:
+    def __init__(self, path: Path, *, stream: tuple[BinaryIO, int] | None = None, counted: bool = True) -> None:
         self._path = path
         self._db = _connect(path, stream)
-        key = _file_key(path) if stream is None else _stream_key(stream[0])
+        self._key = file_key(path) if stream is None else _stream_key(stream[0])
+        self._bounds: dict[int, tuple[int, int]] = {}
         try:
-            self._connections, self._bounds = self._read_topics(key, known)
+            self._connections = self._read_topics()
+            if counted:
+                self.count_rows()
         except _DB_ERRORS as err:
             self._db.close()
             raise DamagedBagError(f"{path}: the sqlite3 tables could not be read ({err})") from err
@@ -149,29 +137,32 @@ class Sqlite3Source:
             self._db.close()
             raise
 
-    def _read_topics(
-        self, key: tuple[object, ...] | None, known: KnownTopics | None
-    ) -> tuple[list[Connection], dict[int, tuple[int, int]]]:
+    def _read_topics(self) -> list[Connection]:
         db = self._db
         has_qos = "offered_qos_profiles" in _columns(db, "topics")
         qos_col = "offered_qos_profiles" if has_qos else "''"
         defs = _definitions(db)
-        rows = list(db.execute(f"SELECT id, name, type, serialization_format, {qos_col} FROM topics ORDER BY id"))
-        stats = _known_stats([(int(row[0]), str(row[1])) for row in rows], known)
-        if stats is None:
-            stats = topic_stats(db, key)
         connections: list[Connection] = []
-        for tid, name, typ, fmt, qos in rows:
+        for tid, name, typ, fmt, qos in db.execute(
+            f"SELECT id, name, type, serialization_format, {qos_col} FROM topics ORDER BY id"
+        ):
             if str(fmt) != "cdr":
                 raise UnsupportedFormatError(
                     f"{self._path}: topic {name} uses serialization format {fmt!r}; only 'cdr' can be read"
                 )
             text, dfmt = defs.get(str(typ), ("", ""))
-            count = stats.get(int(tid), (0, 0, 0))[0]
             meta = (("offered_qos_profiles", str(qos)),) if qos else ()
-            connections.append(Connection(int(tid), str(name), str(typ), Encoding.CDR, text, dfmt, count, "", meta))
-        bounds = {tid: (lo, hi) for tid, (_, lo, hi) in stats.items()}
-        return connections, bounds
+            connections.append(Connection(int(tid), str(name), str(typ), Encoding.CDR, text, dfmt, 0, "", meta))
+        return connections
+
+    def count_rows(self) -> None:
+        """Count each topic's messages and find its first and last time (see ``topic_stats``)."""
+        try:
+            stats = topic_stats(self._db, self._key)
+        except _DB_ERRORS as err:
+            raise DamagedBagError(f"{self._path}: the sqlite3 tables could not be read ({err})") from err
+        self._connections = [replace(c, count=stats.get(c.id, (0, 0, 0))[0]) for c in self._connections]
+        self._bounds = {tid: (lo, hi) for tid, (_, lo, hi) in stats.items()}
 
     @property
     def connections(self) -> Sequence[Connection]:

@@ -11,8 +11,9 @@ Measured on a generated 317.6 MB ``.db3`` (450 000 strings of 600 bytes on one t
 opening it with the catalog's topic stats fetched 2.1 MB and a point read 2.1 MB more with 1 MiB blocks
 (4.2 MB, 1.3 % of the file), 0.2 + 0.26 MB with 64 KiB blocks. Without those stats the per-topic count
 scans every row, which fetches the whole file (317.6 MB, streamed through the bounded cache, nothing kept
-whole): a ROS 2 directory split into several ``.db3`` files pays that once per file and process. A file
-without rosbag2's ``timestamp_idx`` makes every time window a scan too.
+whole): that happens only when the catalog's totals cannot stand for the files' (a topic recorded with two
+types), once per file and process. A file without rosbag2's ``timestamp_idx`` makes every time window a
+scan too.
 
 The database is opened read-only with ``immutable=1`` and the file says it is immutable
 (``SQLITE_IOCAP_IMMUTABLE``): SQLite takes no locks and never looks for a ``-wal`` or ``-journal`` file

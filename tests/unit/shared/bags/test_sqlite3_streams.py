@@ -78,7 +78,7 @@ def streamed(directory: Path, *, known: bool) -> tuple[BagReader, CountingFile]:
         with open_bag(directory) as local:
             stats = {t.name: (t.count, t.first_ns, t.last_ns) for t in local.summary().topics}
     storage = {path.name: (cast(BinaryIO, stream), path.stat().st_size)}
-    return open_directory_stream(Path(directory.name), None, storage, known=stats), stream
+    return open_directory_stream(Path(directory.name), None, storage, totals=stats), stream
 
 
 def everything(reader: BagReader) -> list[tuple[str, int, bytes]]:
@@ -107,6 +107,15 @@ def test_with_the_catalogs_stats_a_point_read_reads_a_few_pages_not_the_file(tmp
     unknown, scanned = streamed(directory, known=False)
     with unknown:
         assert scanned.read_bytes >= size * 0.9  # without them, counting per topic reads every row
+
+
+def test_totals_that_lack_a_topic_do_not_stand_for_the_files_counts(tmp_path: Path) -> None:
+    directory = write_db3(tmp_path / "pages", count=2000, pad=30)
+    path = next(directory.glob("*.db3"))
+    storage = {path.name: (cast(BinaryIO, CountingFile(path)), path.stat().st_size)}
+    partial = {"/pose": (1, START_NS, START_NS)}  # /status missing, and a wrong count that must not be used
+    with open_directory_stream(Path("pages"), None, storage, totals=partial) as reader, open_bag(directory) as local:
+        assert replace(reader.summary(), path="") == replace(local.summary(), path="")
 
 
 def test_a_count_that_spills_to_scratch_files_is_right(tmp_path: Path) -> None:
