@@ -96,6 +96,15 @@ async def _unless_it_goes_down(
     raise UpstreamWentDownError(down[0] if down else "it stopped answering")
 
 
+async def _route_of(gateway: Gateway, name: str) -> ToolRoute | None:
+    """Where ``name`` goes; for a tool of a service the catalog has down, after one more look at that service
+    (it may just have come back)."""
+    catalog = gateway.tool_catalog
+    route = catalog.routes.get(name)
+    gone = catalog.known.get(name) if route is None else None
+    return catalog.routes.get(name) if gone is not None and await catalog.recheck(gone) else route
+
+
 def _missing(gateway: Gateway, name: str, record: AuditRecord) -> WireResult:
     gone = gateway.tool_catalog.known.get(name)
     record.outcome, record.upstream = ("unavailable", gone.name) if gone else ("unknown_tool", None)
@@ -116,7 +125,7 @@ async def _checked_call(
     record: AuditRecord,
 ) -> WireResult:
     await gateway.tools()
-    route = gateway.tool_catalog.routes.get(name)
+    route = await _route_of(gateway, name)
     if route is None:
         return _missing(gateway, name, record)
     upstream = route.upstream
