@@ -28,6 +28,7 @@ from bagmcp_gateway.upstreams.relay import WireResult
 from bagmcp_gateway.upstreams.resource_routes import with_exposed_links
 from bagmcp_gateway.upstreams.tool_catalog import ToolRoute
 from bagmcp_gateway.upstreams.upstream import Upstream
+from bagmcp_kit.fetch_meta import FETCHED_META_KEY
 from bagmcp_kit.identity import owner_meta
 from bagmcp_kit.web.viewers import asking_for_views, without_view_data
 from bagmcp_shared.errors import BagmcpError
@@ -182,5 +183,6 @@ async def call_tool(
     if gateway.audit is not None:
         record.duration_ms = round(seconds * 1000, 3)
         record.response_bytes = text_characters(result)
+        record.fetched_bytes = (result.get("_meta") or {}).get(FETCHED_META_KEY)
         gateway.audit.write(record)
     return result

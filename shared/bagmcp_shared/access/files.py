@@ -15,6 +15,7 @@ from pathlib import Path
 from typing import Protocol
 
 from bagmcp_shared import keys
+from bagmcp_shared.access.fetch_tally import count_fetched
 from bagmcp_shared.bags import BagReader, open_bag
 from bagmcp_shared.catalog.models import BagRecord
 from bagmcp_shared.errors import StorageError
@@ -184,7 +185,9 @@ class CachedBagFiles:
         partial.mkdir(parents=True)
         try:
             for key in wanted:
-                self._store.download_to(key, partial / key.rsplit("/", 1)[-1])
+                target = partial / key.rsplit("/", 1)[-1]
+                self._store.download_to(key, target)
+                count_fetched(target.stat().st_size)
             shutil.rmtree(root, ignore_errors=True)
             partial.rename(root)
             (root / _COMPLETE).touch()
