@@ -7,8 +7,8 @@ and chunk infos) and the chunks that overlap; all through the host's block cache
 A ROS 2 directory of MCAP storage files is read the same way per file, metadata.yaml as one small read.
 ROS 2 directories with sqlite3 (.db3) or zstd-compressed (.mcap.zstd) storage files are still copied whole
 by ``CachedBagFiles`` (SQLite opens its database by path; a zstd stream cannot be entered in the middle),
-as is every bag while it is ingested (the copy is dropped afterwards, see ``drop_copy``), and for downloads.
-"""
+as is every bag while it is ingested (the copy is dropped afterwards, see ``drop_copy``). Downloads stream
+from the object store (``parts_of``)."""
 
 from __future__ import annotations
 
