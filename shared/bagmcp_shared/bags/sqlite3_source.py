@@ -20,7 +20,14 @@ _DEFINITION_FORMATS = {"ros2msg": "msg", "ros2idl": "idl"}
 
 
 def _connect(path: Path) -> sqlite3.Connection:
-    uri = f"{path.resolve().as_uri()}?mode=ro"
+    """Open read-only and, unless a write-ahead log holds pages not yet in the file, immutable: SQLite then
+    takes no locks and creates no ``-wal``/``-shm`` files beside a WAL-mode bag (``mode=ro`` alone creates
+    both, writing into a folder the server serves and promises never to write to). A non-empty ``-wal``
+    (a recording that was not checkpointed) holds messages the file lacks, so it is read through SQLite's
+    WAL machinery, which needs the ``-shm`` index beside it."""
+    wal = path.with_name(path.name + "-wal")
+    pending = wal.exists() and wal.stat().st_size > 0
+    uri = f"{path.resolve().as_uri()}?mode=ro" + ("" if pending else "&immutable=1")
     try:
         db = sqlite3.connect(uri, uri=True, check_same_thread=False)
         db.execute("SELECT 1 FROM messages LIMIT 1").fetchall()
