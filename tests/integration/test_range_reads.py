@@ -119,8 +119,8 @@ def store(s3_server: S3Endpoint) -> S3Store:
 
 
 def shelve(store: S3Store, catalog: MemoryCatalog, bag: Path, work: Path, *, name: str = "padded") -> BagRecord:
-    """Store and ingest ``bag`` (a file or a ROS 2 directory) as the bag-store does (ingest reads a whole
-    copy it fetches into ``work``/ingest-cache)."""
+    """Store and ingest ``bag`` (a file or a ROS 2 directory) as the bag-store does (ingest reads it through
+    its own cache in ``work``/ingest-cache)."""
     names = [bag.name]
     if bag.is_dir():  # a recording's SQLite -shm/-wal side files are not part of the bag
         names = sorted(p.name for p in bag.iterdir() if not p.name.endswith(("-shm", "-wal")))
@@ -283,6 +283,30 @@ def test_a_bag_many_times_larger_than_the_cache_answers_right_and_the_cache_keep
         assert answers(access, record.id) == expected
         assert files.blocks.used_bytes() <= SMALL.cache_bytes
     assert files.blocks.counters.evicted_blocks > 0
+
+
+def test_ingest_streams_a_bag_larger_than_the_cache_by_range_and_keeps_no_whole_copy(
+    store: S3Store, local_bag: Path, tmp_path: Path
+) -> None:
+    """Ingest reads the bag through the block cache (its format from the first bytes), within the cache's
+    bound, and only what its summary and index need: here the padding topics' chunks are never fetched (a
+    whole copy fetched first would fetch every byte and no block at all)."""
+    catalog = MemoryCatalog()
+    names = [local_bag.name]
+    record, _ = Shelf(catalog, store).register(
+        local_bag, names, content_id([local_bag], directory=False), name="big", tags=[]
+    )
+    assert record.size_bytes > 4 * SMALL.cache_bytes
+    files = RangedBagFiles(store, tmp_path / "ingest-cache", max_bytes=1 << 30, reads=SMALL)
+    assert Ingestor(catalog, files, files, store).ingest(record.id) == "ready"
+    assert 0 < files.blocks.counters.fetched_bytes < record.size_bytes / 4
+    assert files.blocks.used_bytes() <= SMALL.cache_bytes
+    assert not (tmp_path / "ingest-cache" / record.id).exists()
+    ready = catalog.get(record.id)
+    assert ready is not None
+    assert ready.summary is not None
+    with open_bag(local_bag) as bag:
+        assert ready.summary.message_count == bag.summary().message_count
 
 
 def test_an_object_changed_under_the_catalog_is_an_error_naming_the_bag(

@@ -7,8 +7,9 @@ and chunk infos) and the chunks that overlap; all through the host's block cache
 A ROS 2 directory of MCAP storage files is read the same way per file, metadata.yaml as one small read.
 ROS 2 directories with sqlite3 (.db3) or zstd-compressed (.mcap.zstd) storage files are still copied whole
 by ``CachedBagFiles`` (SQLite opens its database by path; a zstd stream cannot be entered in the middle),
-as is every bag while it is ingested (the copy is dropped afterwards, see ``drop_copy``). Downloads stream
-from the object store (``parts_of``)."""
+and other formats (ULog, DataFlash). Ingest reads ranged bags by range too (their format from their first
+bytes); the others it copies whole, and drops the copy afterwards (``drop_copy``). Downloads stream from the
+object store (``parts_of``)."""
 
 from __future__ import annotations
 
@@ -21,6 +22,7 @@ from bagmcp_shared.access.blocks import BlockCache
 from bagmcp_shared.access.files import CachedBagFiles
 from bagmcp_shared.access.ranged import UNKNOWN_SIZE, RangedFile, RangeStore, StoredFile, changed
 from bagmcp_shared.bags import BagFormat, BagReader, open_directory_stream, open_stream
+from bagmcp_shared.bags.detect import format_of_head
 from bagmcp_shared.catalog.models import BagRecord
 from bagmcp_shared.settings import RangeReads
 from bagmcp_shared.storage import ObjectStore
@@ -42,15 +44,30 @@ class RangedBagFiles(CachedBagFiles):
         )  # a dot name: the whole-copy cache neither counts nor evicts it
 
     def reader_for(self, record: BagRecord) -> tuple[Path, Callable[[], BagReader]]:
-        if not ranged(record) or self.has_copy(record):  # a process holding a whole copy (a download) reads it
+        """By range when the bag's format reads so (ingest too: the format of a bag not yet ingested comes
+        from its first bytes, so ingest streams it through the block cache instead of copying it whole)."""
+        fmt = self._ranged_format(record)
+        if fmt is None or self.has_copy(record):  # a process holding a whole copy reads it
             return super().reader_for(record)
         label = Path(record.name)
         if record.layout == "directory":
             return label, lambda: self._open_directory(record, label)
-        name = record.files[0]
-        stored = StoredFile(record.name, keys.bag_file(record.id, name), record.size_bytes, record.etags.get(name, ""))
-        fmt = BagFormat(record.summary.format if record.summary is not None else "")
+        stored = self._stored(record)
         return label, lambda: open_stream(label, cast(BinaryIO, self.open_file(stored)), size=stored.size, fmt=fmt)
+
+    def _stored(self, record: BagRecord) -> StoredFile:
+        name = record.files[0]
+        return StoredFile(record.name, keys.bag_file(record.id, name), record.size_bytes, record.etags.get(name, ""))
+
+    def _ranged_format(self, record: BagRecord) -> BagFormat | None:
+        """The format a ranged reader opens the bag as, or None when it is read from a whole copy."""
+        if record.summary is not None:
+            return BagFormat(record.summary.format) if ranged(record) else None
+        if record.layout == "directory":
+            return BagFormat.ROS2_MCAP if _mcap_storage(record) else None
+        with self.open_file(self._stored(record)) as file:
+            fmt = format_of_head(file.read(16))
+        return fmt if fmt in RANGED else None
 
     def release_ingested(self, record: BagRecord) -> bool:
         """A bag read by range needs no whole copy after ingest: the one ingest fetched is dropped at once,
@@ -97,5 +114,10 @@ def ranged(record: BagRecord) -> bool:
         return False
     if record.layout == "file":
         return record.summary.format in RANGED
+    return record.summary.format == BagFormat.ROS2_MCAP and _mcap_storage(record)
+
+
+def _mcap_storage(record: BagRecord) -> bool:
+    """A ROS 2 directory whose storage files are all plain MCAP files (``.mcap``, not ``.mcap.zstd``)."""
     storage = [name for name in record.files if Path(name).name != METADATA]
-    return record.summary.format == BagFormat.ROS2_MCAP and all(name.endswith(".mcap") for name in storage)
+    return bool(storage) and all(name.endswith(".mcap") for name in storage)
