@@ -11,6 +11,7 @@ from pydantic import AnyHttpUrl
 
 from bagmcp_kit.arguments import CONVENTIONS, register
 from bagmcp_kit.auth import SERVICE_SCOPE, ServiceTokenVerifier
+from bagmcp_kit.fetch_meta import fetched_bytes_meta
 from bagmcp_kit.ingest_wait import IngestWait, wait_for_ingest
 from bagmcp_kit.toolsets import tools_of
 from bagmcp_kit.web.viewers import add_viewer, ui_meta
@@ -60,6 +61,7 @@ def new_server(
     specs = tools_of(*tools)
     viewer = ui_meta(add_viewer(server, name.removeprefix("bagmcp-"))) if any(s.view for s in specs) else None
     register(server, specs, viewer_meta=viewer)
+    server.middleware.append(fetched_bytes_meta)
     if ingest is not None:
         server.middleware.append(wait_for_ingest(ingest.catalog, budget_s=ingest.budget_s))
     return server

@@ -41,9 +41,22 @@ def test_info_text_names_format_and_topics(scenario_bag: Path) -> None:
     assert "20.00 Hz" in result.stdout
 
 
+# One recording per kind of reader: the installed command on each (a process costs about 1.5 s of CPU; every
+# readable recording's counts are checked in process by test_recorded_corpus.py).
+ONE_OF_EACH_KIND = [
+    "ros1/turtlesim_rosbagjs/example-lz4.bag",
+    "ros2_db3/plotjuggler_imu_pose_battery",
+    "ros2_mcap/rosbag2_wbag_split",
+    "ros2_mcap/evo_nav2_turtlebot/nav2_turtlebot.mcap",
+    "edge_cases/mcap_non_ros_profile_data_tamer.mcap",
+    "edge_cases/ros2_no_metadata_split_db3",
+]
+
+
 @pytest.mark.corpus
-def test_info_json_counts_match_the_corpus_for_every_readable_recording(corpus: Path) -> None:
-    for relpath, topics in READABLE.items():
+def test_info_json_counts_match_the_corpus_for_each_kind_of_recording(corpus: Path) -> None:
+    for relpath in ONE_OF_EACH_KIND:
+        topics = READABLE[relpath]
         result = _bagmcp("info", "--json", str(corpus / relpath))
         assert result.returncode == 0, f"{relpath}: {result.stderr}"
         info = json.loads(result.stdout)

@@ -88,6 +88,7 @@ async def test_filter_bag_keeps_exactly_the_requested_topics(
         assert info["format"] == (fmt or {"scenario": "ros1", "scenario_db3": "ros2-sqlite3"}.get(source, "ros2-mcap"))
     cli = download_info(stack.url, TOKEN, result["bag_id"], tmp_path)
     assert {t["name"]: t["count"] for t in cli["topics"]} == expected
+    assert not (stack.bag_store_data / "cache" / str(result["bag_id"])).exists()  # streamed from S3, not copied
 
 
 async def test_filter_bag_applies_a_window_and_per_topic_rates(

@@ -18,7 +18,7 @@ import pytest
 
 from tests.fixtures.bagfactory import write_chatter_bag
 from tests.fixtures.faults import TOKEN, FaultStack, redis_server, weed_server
-from tests.fixtures.mcp_client import call_error, http_client
+from tests.fixtures.mcp_client import call, call_error, http_client
 from tests.fixtures.processes import wait_until
 from tests.fixtures.restartable import Restartable
 from tests.fixtures.servers import free_ports, remove_weed_sockets
@@ -77,6 +77,23 @@ async def test_a_call_in_flight_when_its_service_stops_ends_promptly_naming_it(
             os.kill(bag_store.pid, signal.SIGCONT)
     assert "bag-store service" in text
     assert took < 25, f"the call took {took:.0f} s: {text}"
+
+
+async def test_a_call_right_after_its_service_came_back_runs(waiting_stack: FaultStack) -> None:
+    """The gateway looks at a service it has down again when a call for one of its tools arrives, instead of
+    answering "unavailable right now" until its next look (up to its poll, 5 s by default, after a restart)."""
+    readyz = f"{waiting_stack.url}/readyz"
+    bag_store = waiting_stack.services["bag-store"]
+    bag_store.stop(sig=signal.SIGTERM, timeout_s=15)
+    async with http_client(f"{waiting_stack.url}/mcp", TOKEN) as client:
+        text = await call_error(client, "list_bags")
+        assert "the bag-store service is unavailable right now" in text
+        await anyio.to_thread.run_sync(
+            lambda: wait_until(lambda: httpx.get(readyz, timeout=10).status_code == 503, timeout_s=30, what="down")
+        )
+        await anyio.to_thread.run_sync(bag_store.start)
+        listed = await call(client, "list_bags")
+    assert [b["name"] for b in listed["bags"]] == []
 
 
 def test_readyz_says_not_ready_naming_s3_while_it_is_down(waiting_stack: FaultStack) -> None:

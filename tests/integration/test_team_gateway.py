@@ -19,7 +19,8 @@ from cryptography.hazmat.primitives.asymmetric import rsa
 from mcp import Client
 
 from bagmcp_gateway.access.profiles import CORE_TOOLS
-from tests.fixtures.bagfactory import BagKind
+from bagmcp_kit.fetch_meta import FETCHED_META_KEY
+from tests.fixtures.bagfactory import BagKind, write_chatter_bag
 from tests.fixtures.identity_provider import jwks_server, signed_jwt
 from tests.fixtures.mcp_client import call, call_error, http_client
 from tests.fixtures.processes import BIN, http_ok, service, wait_until
@@ -137,6 +138,32 @@ async def test_metrics_count_calls_and_audit_records_name_the_token(stack: Stack
         return len(records) >= 3 and all(r["tool"] == "list_bags" and r["outcome"] == "ok" for r in records)
 
     wait_until(audited, timeout_s=10, what="three audit records of the metered token")
+
+
+async def test_a_calls_audit_record_says_the_bytes_its_service_fetched_from_s3(stack: Stack, tmp_path: Path) -> None:
+    """A first read of a bag fetches blocks from S3 into the bag-store's cache; the same read again fetches
+    nothing. The answer says so in ``_meta`` and the gateway's audit line carries the figure."""
+    fetching = new_token(stack, "fetching")
+    name = str(stack.upload_ok(write_chatter_bag(tmp_path, count=2000, name="fetched"))["name"])
+    await stack.wait_ready([name])
+    fetched = []
+    async with http_client(f"{stack.url}/mcp", fetching) as client:
+        for _ in range(2):
+            result = await client.call_tool("get_message_at_time", {"bag": name, "topic": "/chatter", "time": 1.0})
+            assert not result.is_error
+            fetched.append((result.meta or {}).get(FETCHED_META_KEY))
+    size = sum(f.stat().st_size for f in tmp_path.rglob("*.db3"))
+    first, again = fetched
+    assert isinstance(first, int)
+    assert 0 < first <= size + 1_048_576  # at most the file and a block
+    assert again is None  # from the block cache
+
+    def audited() -> list[dict[str, Any]]:
+        lines = (stack.logs / "gateway.log").read_text(errors="replace").splitlines()
+        return [json.loads(row) for row in lines if row.startswith('{"token":"fetching"')]
+
+    wait_until(lambda: len(audited()) >= 2, timeout_s=10, what="two audit records of the fetching token")
+    assert [r.get("fetched_bytes") for r in audited()] == [first, None]
 
 
 @pytest.fixture(scope="module")

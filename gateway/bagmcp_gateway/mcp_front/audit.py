@@ -25,6 +25,7 @@ class AuditRecord:
     duration_ms: float = 0.0
     request_bytes: int = 0
     response_bytes: int = 0
+    fetched_bytes: int | None = None  # what the upstream fetched from the object store for the call
     arguments: dict[str, object] | None = None
     ts: float = field(default_factory=time.time)
 

@@ -28,6 +28,7 @@ from bagmcp_gateway.upstreams.relay import WireResult
 from bagmcp_gateway.upstreams.resource_routes import with_exposed_links
 from bagmcp_gateway.upstreams.tool_catalog import ToolRoute
 from bagmcp_gateway.upstreams.upstream import Upstream
+from bagmcp_kit.fetch_meta import FETCHED_META_KEY
 from bagmcp_kit.identity import owner_meta
 from bagmcp_kit.web.viewers import asking_for_views, without_view_data
 from bagmcp_shared.errors import BagmcpError
@@ -96,6 +97,15 @@ async def _unless_it_goes_down(
     raise UpstreamWentDownError(down[0] if down else "it stopped answering")
 
 
+async def _route_of(gateway: Gateway, name: str) -> ToolRoute | None:
+    """Where ``name`` goes; for a tool of a service the catalog has down, after one more look at that service
+    (it may just have come back)."""
+    catalog = gateway.tool_catalog
+    route = catalog.routes.get(name)
+    gone = catalog.known.get(name) if route is None else None
+    return catalog.routes.get(name) if gone is not None and await catalog.recheck(gone) else route
+
+
 def _missing(gateway: Gateway, name: str, record: AuditRecord) -> WireResult:
     gone = gateway.tool_catalog.known.get(name)
     record.outcome, record.upstream = ("unavailable", gone.name) if gone else ("unknown_tool", None)
@@ -116,7 +126,7 @@ async def _checked_call(
     record: AuditRecord,
 ) -> WireResult:
     await gateway.tools()
-    route = gateway.tool_catalog.routes.get(name)
+    route = await _route_of(gateway, name)
     if route is None:
         return _missing(gateway, name, record)
     upstream = route.upstream
@@ -173,5 +183,6 @@ async def call_tool(
     if gateway.audit is not None:
         record.duration_ms = round(seconds * 1000, 3)
         record.response_bytes = text_characters(result)
+        record.fetched_bytes = (result.get("_meta") or {}).get(FETCHED_META_KEY)
         gateway.audit.write(record)
     return result

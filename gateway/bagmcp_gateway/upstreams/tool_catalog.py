@@ -101,6 +101,8 @@ class ToolCatalog:
         self._seen_up: set[str] = set()
         self._http = httpx.AsyncClient()
         self._down = {u.name: anyio.Event() for u in upstreams}  # set (and replaced) each time one is found down
+        self._rechecking = {u.name: anyio.Lock() for u in upstreams}
+        self._rechecked: dict[str, float] = {}
         bus.subscribe(self._heard)  # a change another replica noticed: re-list here too
 
     async def _list(self, upstream: Upstream) -> UpstreamState:
@@ -147,6 +149,24 @@ class ToolCatalog:
         async with anyio.create_task_group() as group:
             for upstream in self.upstreams:
                 group.start_soon(self.refresh, upstream)
+        return await self._rebuilt(before, resources_before)
+
+    async def recheck(self, upstream: Upstream) -> bool:
+        """Whether ``upstream`` is up, after listing it again now if the catalog has it down: a call for one of
+        its tools right after the service came back runs instead of answering "unavailable" until the next
+        poll or reconnect (1-5 s after a restart). One listing per ``retry_s`` at most; callers that arrive
+        meanwhile wait for it and share its verdict, so a burst of calls to a dead service costs one try."""
+        name = upstream.name
+        async with self._rechecking[name]:
+            if not self.states[name].up and time.monotonic() - self._rechecked.get(name, 0.0) >= self._retry_s:
+                self._rechecked[name] = time.monotonic()
+                before, resources_before = [t.name for t in self.tools], self.resources.uris()
+                await self.refresh(upstream)
+                await self._rebuilt(before, resources_before)
+        return self.states[name].up
+
+    async def _rebuilt(self, before: list[str], resources_before: list[str]) -> bool:
+        """Routes rebuilt from the states; clients told when tools or resources changed (True for tools)."""
         self._rebuild()
         changed = before != [t.name for t in self.tools]
         if changed:

@@ -4,34 +4,41 @@ from __future__ import annotations
 
 import tarfile
 from collections.abc import Callable, Iterator
-from pathlib import Path
 from typing import Annotated
 
 import anyio
 from fastapi import APIRouter, Query, Request
-from fastapi.responses import FileResponse, JSONResponse, Response, StreamingResponse
+from fastapi.responses import JSONResponse, Response, StreamingResponse
 
 from bagmcp_bag_store.errors import ReadOnlyError
 from bagmcp_bag_store.ingest.upload import UploadPolicy, receive, store_upload
 from bagmcp_bag_store.queries import catalog_queries
 from bagmcp_bag_store.reports import BagList
 from bagmcp_shared.access import BagAccess
+from bagmcp_shared.access.parts import BagPart
 from bagmcp_shared.catalog import BagRecord, exact_bag, resolve_bag
 
 
-def _tar_stream(root: Path) -> Iterator[bytes]:
-    """A ROS 2 bag directory as a tar stream, produced while it is sent (no temporary copy)."""
-    for path in sorted(p for p in root.iterdir() if p.is_file()):
-        info = tarfile.TarInfo(f"{root.name}/{path.name}")
-        info.size = path.stat().st_size
-        info.mtime = int(path.stat().st_mtime)
+def _tar_stream(name: str, parts: list[BagPart]) -> Iterator[bytes]:
+    """A ROS 2 bag directory as a tar stream under ``name``/, produced while it is sent (no temporary copy)."""
+    for part in parts:
+        info = tarfile.TarInfo(f"{name}/{part.name}")
+        info.size = part.size
         yield info.tobuf(format=tarfile.PAX_FORMAT)
-        with path.open("rb") as file:
-            while chunk := file.read(1 << 20):
-                yield chunk
+        yield from part.chunks()
         if remainder := info.size % tarfile.BLOCKSIZE:
             yield b"\0" * (tarfile.BLOCKSIZE - remainder)
     yield b"\0" * (2 * tarfile.BLOCKSIZE)
+
+
+def _download(record: BagRecord, parts: list[BagPart]) -> Response:
+    """The bag file as it is stored, or a ROS 2 directory as a tar; streamed, with its length when known."""
+    if record.layout == "file":
+        part = parts[0]
+        headers = {"Content-Disposition": f'attachment; filename="{part.name}"', "Content-Length": str(part.size)}
+        return StreamingResponse(part.chunks(), media_type="application/octet-stream", headers=headers)
+    headers = {"Content-Disposition": f'attachment; filename="{record.name}.tar"'}
+    return StreamingResponse(_tar_stream(record.name, parts), media_type="application/x-tar", headers=headers)
 
 
 def _check_uploads(policy: UploadPolicy) -> None:
@@ -69,11 +76,7 @@ def build_router(
     @router.get("/bags/{ref}/download")
     def download(ref: str) -> Response:
         record = resolve_bag(access.catalog, ref)
-        path = access.files.path_for(record)
-        if path.is_file():
-            return FileResponse(path, filename=path.name, media_type="application/octet-stream")
-        headers = {"Content-Disposition": f'attachment; filename="{record.name}.tar"'}
-        return StreamingResponse(_tar_stream(path), media_type="application/x-tar", headers=headers)
+        return _download(record, access.files.parts_of(record))
 
     @router.delete("/bags/{ref}", status_code=204)
     def delete(ref: str) -> Response:

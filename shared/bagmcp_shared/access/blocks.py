@@ -23,6 +23,8 @@ from contextlib import ExitStack, contextmanager, suppress
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from bagmcp_shared.access.fetch_tally import count_fetched
+
 STRIPES = 256
 LOW_WATER = 0.9  # an eviction frees down to this share of the bound, so it is not repeated per block
 
@@ -112,6 +114,7 @@ class BlockCache:
     def store(self, obj: str, index: int, data: bytes) -> None:
         """Write a fetched block (temp file, then rename), first making room for it."""
         self.counters.add(misses=1, fetched_bytes=len(data))
+        count_fetched(len(data))
         if len(data) > self.max_bytes:
             return  # a cache smaller than a block keeps nothing; the caller has the bytes
         target = self.path(obj, index)

@@ -15,6 +15,8 @@ from pathlib import Path
 from typing import Protocol
 
 from bagmcp_shared import keys
+from bagmcp_shared.access.fetch_tally import count_fetched
+from bagmcp_shared.access.parts import BagPart, local_parts
 from bagmcp_shared.bags import BagReader, open_bag
 from bagmcp_shared.catalog.models import BagRecord
 from bagmcp_shared.errors import StorageError
@@ -35,6 +37,10 @@ class BagFiles(Protocol):
 
     def reader_for(self, record: BagRecord) -> tuple[Path, Callable[[], BagReader]]:
         """What the opened-bag cache keys the bag's readers by, and how to open one."""
+        ...
+
+    def parts_of(self, record: BagRecord) -> list[BagPart]:
+        """The bag's files as parts to stream (a download), without copying them first."""
         ...
 
 
@@ -72,6 +78,9 @@ class FolderBagFiles:
     def reader_for(self, record: BagRecord) -> tuple[Path, Callable[[], BagReader]]:
         path = self.path_for(record)
         return path, partial(open_bag, path)
+
+    def parts_of(self, record: BagRecord) -> list[BagPart]:
+        return local_parts(self.path_for(record))
 
     def index_dir(self, record: BagRecord) -> Path | None:
         path = self._index_root / record.id
@@ -147,6 +156,11 @@ class CachedBagFiles:
         path = self.path_for(record)
         return path, partial(open_bag, path)
 
+    def parts_of(self, record: BagRecord) -> list[BagPart]:
+        """Streamed from the object store (one HEAD per file for its size), never copied here first."""
+        keyed = [(Path(name).name, keys.bag_file(record.id, name)) for name in record.files]
+        return [BagPart(name, self._store.stat(key).size, partial(self._store.open_read, key)) for name, key in keyed]
+
     def has_copy(self, record: BagRecord) -> bool:
         """Whether this cache holds a complete copy of the bag's files now (ingest fetched it here)."""
         root = self._dir / record.id
@@ -184,7 +198,9 @@ class CachedBagFiles:
         partial.mkdir(parents=True)
         try:
             for key in wanted:
-                self._store.download_to(key, partial / key.rsplit("/", 1)[-1])
+                target = partial / key.rsplit("/", 1)[-1]
+                self._store.download_to(key, target)
+                count_fetched(target.stat().st_size)
             shutil.rmtree(root, ignore_errors=True)
             partial.rename(root)
             (root / _COMPLETE).touch()

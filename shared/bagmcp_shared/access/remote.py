@@ -7,11 +7,12 @@ and chunk infos) and the chunks that overlap; all through the host's block cache
 A ROS 2 directory of MCAP storage files is read the same way per file, metadata.yaml as one small read;
 a sqlite3 storage file (.db3) page by page, as SQLite asks for its pages (bags/sqlite3_stream.py: an apsw
 VFS over the same ranged file), each topic's count and bounds taken from the catalog instead of a scan of
-every row.
+every row (ingest, which has no catalog summary yet, scans: it streams each .db3 through the block cache).
 ROS 2 directories with zstd-compressed (.mcap.zstd, .db3.zstd) storage files are still copied whole by
-``CachedBagFiles`` (a zstd stream cannot be entered in the middle), as is every bag while it is ingested
-(the copy is dropped afterwards, see ``drop_copy``), and for downloads.
-"""
+``CachedBagFiles`` (a zstd stream cannot be entered in the middle), and other formats (ULog, DataFlash).
+Ingest reads ranged bags by range too (their format from their first bytes, or a directory's from its file
+names); the others it copies whole, and drops the copy afterwards (``drop_copy``). Downloads stream from
+the object store (``parts_of``)."""
 
 from __future__ import annotations
 
@@ -24,6 +25,7 @@ from bagmcp_shared.access.blocks import BlockCache
 from bagmcp_shared.access.files import CachedBagFiles
 from bagmcp_shared.access.ranged import UNKNOWN_SIZE, RangedFile, RangeStore, StoredFile, changed
 from bagmcp_shared.bags import BagFormat, BagReader, open_directory_stream, open_stream
+from bagmcp_shared.bags.detect import format_of_head
 from bagmcp_shared.bags.source import TopicTotals
 from bagmcp_shared.catalog.models import BagRecord
 from bagmcp_shared.settings import RangeReads
@@ -47,15 +49,30 @@ class RangedBagFiles(CachedBagFiles):
         )  # a dot name: the whole-copy cache neither counts nor evicts it
 
     def reader_for(self, record: BagRecord) -> tuple[Path, Callable[[], BagReader]]:
-        if not ranged(record) or self.has_copy(record):  # a process holding a whole copy (a download) reads it
+        """By range when the bag's format reads so (ingest too: the format of a bag not yet ingested comes
+        from its first bytes, so ingest streams it through the block cache instead of copying it whole)."""
+        fmt = self._ranged_format(record)
+        if fmt is None or self.has_copy(record):  # a process holding a whole copy reads it
             return super().reader_for(record)
         label = Path(record.name)
         if record.layout == "directory":
             return label, lambda: self._open_directory(record, label)
-        name = record.files[0]
-        stored = StoredFile(record.name, keys.bag_file(record.id, name), record.size_bytes, record.etags.get(name, ""))
-        fmt = BagFormat(record.summary.format if record.summary is not None else "")
+        stored = self._stored(record)
         return label, lambda: open_stream(label, cast(BinaryIO, self.open_file(stored)), size=stored.size, fmt=fmt)
+
+    def _stored(self, record: BagRecord) -> StoredFile:
+        name = record.files[0]
+        return StoredFile(record.name, keys.bag_file(record.id, name), record.size_bytes, record.etags.get(name, ""))
+
+    def _ranged_format(self, record: BagRecord) -> BagFormat | None:
+        """The format a ranged reader opens the bag as, or None when it is read from a whole copy."""
+        if record.summary is not None:
+            return BagFormat(record.summary.format) if ranged(record) else None
+        if record.layout == "directory":
+            return _directory_format(record)
+        with self.open_file(self._stored(record)) as file:
+            fmt = format_of_head(file.read(16))
+        return fmt if fmt in RANGED else None
 
     def release_ingested(self, record: BagRecord) -> bool:
         """A bag read by range needs no whole copy after ingest: the one ingest fetched is dropped at once,
@@ -99,15 +116,23 @@ METADATA = "metadata.yaml"
 
 def ranged(record: BagRecord) -> bool:
     """Whether the bag is read by range: ingested, and a single bare MCAP file or ROS 1 bag, or a ROS 2
-    directory whose storage files are all uncompressed-by-file MCAP (``.mcap``) or sqlite3 (``.db3``) files.
-    A directory stored with other files (one without metadata.yaml keeps all it came with) stays copied
-    whole: a ``.db3-wal`` beside its database holds rows SQLite reads from a local copy, and ingest counted."""
+    directory whose storage files are all uncompressed-by-file MCAP (``.mcap``) or sqlite3 (``.db3``) files."""
     if record.summary is None:
         return False
     if record.layout == "file":
         return record.summary.format in RANGED
+    return record.summary.format in RANGED_ROS2 and _directory_format(record) is not None
+
+
+def _directory_format(record: BagRecord) -> BagFormat | None:
+    """ROS2_SQLITE3 or ROS2_MCAP for a ROS 2 directory whose storage files are all plain ``.db3`` or ``.mcap``
+    files (``.db3`` files all, or not all), else None. A directory stored with other files (one without
+    metadata.yaml keeps all it came with) stays copied whole: a ``.db3-wal`` beside its database holds rows
+    SQLite reads from a local copy."""
     storage = [name for name in record.files if Path(name).name != METADATA]
-    return record.summary.format in RANGED_ROS2 and all(name.endswith((".mcap", ".db3")) for name in storage)
+    if not storage or not all(name.endswith((".mcap", ".db3")) for name in storage):
+        return None
+    return BagFormat.ROS2_SQLITE3 if all(name.endswith(".db3") for name in storage) else BagFormat.ROS2_MCAP
 
 
 def topic_totals(record: BagRecord) -> TopicTotals | None:

@@ -20,6 +20,11 @@ _MAGICS: tuple[tuple[bytes, BagFormat | str], ...] = (
 )
 
 
+def format_of_head(head: bytes) -> BagFormat | None:
+    """The bag format the first bytes of a file announce, or None (unknown, or not a format read as is)."""
+    return next((kind for magic, kind in _MAGICS if head.startswith(magic) and isinstance(kind, BagFormat)), None)
+
+
 def sniff_file(path: Path) -> BagFormat:
     """The bag format of a single file, from its first bytes."""
     try:

@@ -45,12 +45,24 @@ def _checked(path: Path, db: Database) -> Database:
     return db
 
 
+def _local_uri(path: Path) -> str:
+    """Read-only and, unless a write-ahead log holds pages not yet in the file, immutable: SQLite then
+    takes no locks and creates no ``-wal``/``-shm`` files beside a WAL-mode bag (``mode=ro`` alone creates
+    both, writing into a folder the server serves and promises never to write to). A non-empty ``-wal``
+    (a recording that was not checkpointed) holds messages the file lacks, so it is read through SQLite's
+    WAL machinery, which needs the ``-shm`` index beside it."""
+    wal = path.with_name(path.name + "-wal")
+    pending = wal.exists() and wal.stat().st_size > 0
+    return f"{path.resolve().as_uri()}?mode=ro" + ("" if pending else "&immutable=1")
+
+
 def _connect(path: Path, stream: tuple[BinaryIO, int] | None) -> Database:
-    """The local file at ``path`` (sqlite3, read-only), or the database in ``stream`` (apsw, immutable)."""
+    """The local file at ``path`` (sqlite3, see ``_local_uri``), or the database in ``stream`` (apsw, always
+    immutable: a stored bag has no side files)."""
     try:
         if stream is not None:
             return _checked(path, connect_stream(*stream))
-        return _checked(path, sqlite3.connect(f"{path.resolve().as_uri()}?mode=ro", uri=True, check_same_thread=False))
+        return _checked(path, sqlite3.connect(_local_uri(path), uri=True, check_same_thread=False))
     except _DB_ERRORS as err:
         raise DamagedBagError(f"{path}: not a readable ROS 2 sqlite3 bag ({err})") from err
 

@@ -6,6 +6,7 @@ from collections.abc import Callable
 from pathlib import Path
 
 from bagmcp_shared.access import BagAccess, BagFiles
+from bagmcp_shared.access.parts import BagPart
 from bagmcp_shared.bags import BagReader
 from bagmcp_shared.catalog import BagRecord
 
@@ -24,6 +25,9 @@ class WithoutIndex:
 
     def reader_for(self, record: BagRecord) -> tuple[Path, Callable[[], BagReader]]:
         return self._files.reader_for(record)
+
+    def parts_of(self, record: BagRecord) -> list[BagPart]:
+        return self._files.parts_of(record)
 
 
 def decoding(access: BagAccess) -> BagAccess:

@@ -13,7 +13,7 @@ from bagmcp_bag_store.fleet.extract import IngestedBag
 from bagmcp_bag_store.fleet.feeding import ViewFeeder
 from bagmcp_shared import keys
 from bagmcp_shared.access import BagFiles, CachedBagFiles, IndexPublisher
-from bagmcp_shared.bags import BagReader, BagSummary, open_bag
+from bagmcp_shared.bags import BagReader, BagSummary
 from bagmcp_shared.catalog import BagRecord, Catalog, CatalogSummary
 from bagmcp_shared.errors import BagError, BagNotFoundError
 from bagmcp_shared.index import ColumnIndex, build_index
@@ -76,9 +76,9 @@ class Ingestor:
         if record.status == "ready":
             self._views.backfill(record)
             return record.status
-        path = self._files.path_for(record)
+        path, opened = self._files.reader_for(record)  # in team mode MCAP and ROS 1 stream by range
         try:
-            with open_bag(path) as bag:
+            with opened() as bag:
                 found = bag.summary()
                 definitions = _definitions(bag)
                 index_files, header_rates = self._index(record, bag, found)
