@@ -430,28 +430,34 @@ def test_a_bag_many_times_larger_than_the_cache_answers_right_and_the_cache_keep
     assert files.blocks.counters.evicted_blocks > 0
 
 
+def ingested_in_a_small_cache(store: S3Store, bag: Path, tmp_path: Path) -> tuple[BagRecord, int]:
+    """``bag`` (a file or a ROS 2 directory) stored and ingested through SMALL's block cache, checked to stay
+    within its bound and leave no whole copy; the ready record and the bytes the ingest fetched."""
+    catalog = MemoryCatalog()
+    names = sorted(p.name for p in bag.iterdir()) if bag.is_dir() else [bag.name]
+    sha = content_id([bag / n for n in names] if bag.is_dir() else [bag], directory=bag.is_dir())
+    record, _ = Shelf(catalog, store).register(bag, names, sha, name="big", tags=[])
+    assert record.size_bytes > 4 * SMALL.cache_bytes
+    files = RangedBagFiles(store, tmp_path / "ingest-cache", max_bytes=1 << 30, reads=SMALL)
+    assert Ingestor(catalog, files, files, store).ingest(record.id) == "ready"
+    assert files.blocks.used_bytes() <= SMALL.cache_bytes
+    assert not (tmp_path / "ingest-cache" / record.id).exists()
+    ready = catalog.get(record.id)
+    assert ready is not None
+    assert ready.summary is not None
+    return ready, files.blocks.counters.fetched_bytes
+
+
 def test_ingest_streams_a_bag_larger_than_the_cache_by_range_and_keeps_no_whole_copy(
     store: S3Store, local_file_bag: Path, tmp_path: Path
 ) -> None:
     """Ingest reads the bag through the block cache (its format from the first bytes), within the cache's
     bound, and only what its summary and index need: here the padding topics' chunks are never fetched (a
     whole copy fetched first would fetch every byte and no block at all)."""
-    local_bag = local_file_bag
-    catalog = MemoryCatalog()
-    names = [local_bag.name]
-    record, _ = Shelf(catalog, store).register(
-        local_bag, names, content_id([local_bag], directory=False), name="big", tags=[]
-    )
-    assert record.size_bytes > 4 * SMALL.cache_bytes
-    files = RangedBagFiles(store, tmp_path / "ingest-cache", max_bytes=1 << 30, reads=SMALL)
-    assert Ingestor(catalog, files, files, store).ingest(record.id) == "ready"
-    assert 0 < files.blocks.counters.fetched_bytes < record.size_bytes / 4
-    assert files.blocks.used_bytes() <= SMALL.cache_bytes
-    assert not (tmp_path / "ingest-cache" / record.id).exists()
-    ready = catalog.get(record.id)
-    assert ready is not None
-    assert ready.summary is not None
-    with open_bag(local_bag) as bag:
+    ready, fetched = ingested_in_a_small_cache(store, local_file_bag, tmp_path)
+    assert 0 < fetched < ready.size_bytes / 4
+    with open_bag(local_file_bag) as bag:
+        assert ready.summary is not None
         assert ready.summary.message_count == bag.summary().message_count
 
 
@@ -461,21 +467,11 @@ def test_ingest_streams_a_db3_larger_than_the_cache_by_range_and_keeps_no_whole_
     """A .db3 has no chunks to leave out and no catalog counts yet: its ingest counts each topic's rows, a
     scan of every page (once per stored object and process: an earlier test here may have counted it),
     through the bounded block cache, never a whole copy."""
-    catalog = MemoryCatalog()
-    names = sorted(p.name for p in local_db3.iterdir())
-    sha = content_id([local_db3 / n for n in names], directory=True)
-    record, _ = Shelf(catalog, store).register(local_db3, names, sha, name="big_db3", tags=[])
-    assert record.size_bytes > 4 * SMALL.cache_bytes
-    files = RangedBagFiles(store, tmp_path / "ingest-cache", max_bytes=1 << 30, reads=SMALL)
-    assert Ingestor(catalog, files, files, store).ingest(record.id) == "ready"
-    assert files.blocks.counters.fetched_bytes > 0
-    assert files.blocks.used_bytes() <= SMALL.cache_bytes
-    assert not (tmp_path / "ingest-cache" / record.id).exists()
-    ready = catalog.get(record.id)
-    assert ready is not None
-    assert ready.summary is not None
+    ready, fetched = ingested_in_a_small_cache(store, local_db3, tmp_path)
+    assert fetched > 0
     with open_bag(local_db3) as bag:
         expected = [(t.name, t.count, t.first_ns, t.last_ns) for t in bag.summary().topics]
+    assert ready.summary is not None
     assert [(t.name, t.count, t.first_ns, t.last_ns) for t in ready.summary.topics] == expected
 
 
