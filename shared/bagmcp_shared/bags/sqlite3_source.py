@@ -126,6 +126,12 @@ def topic_stats(db: Database, key: tuple[object, ...] | None) -> TopicStats:
     return stats
 
 
+def forget_topic_stats() -> None:
+    """Forget every remembered count, as a fresh process would (tests of what an open fetches use it)."""
+    with _STATS_LOCK:
+        _STATS.clear()
+
+
 class Sqlite3Source:
     """One ``.db3`` file: a local one at ``path``, or one read through ``stream`` (a seekable stream and its
     size; ``path`` then names it in messages). Opened with ``counted=False`` it does not count each topic's
