@@ -25,6 +25,7 @@ if TYPE_CHECKING:
 
 STREAMING = 2  # reads in a row that continue the last one before read-ahead starts (one chunk: one)
 RETRY_PAUSES_S = (0.2, 1.0)  # a failed request is tried again after these pauses, then the read fails
+MEMORY_BLOCKS = 2  # blocks a file keeps in memory (see RangedFile)
 
 
 class RangeStore(Protocol):
@@ -76,7 +77,11 @@ def pinned(store: RangeStore, stored: StoredFile) -> StoredFile:
 
 
 class RangedFile(io.BufferedIOBase):
-    """``read``/``seek``/``tell`` over a stored object; keeps one block in memory for small reads.
+    """``read``/``seek``/``tell`` over a stored object; keeps the two blocks last read in memory for small
+    reads. Two, not one: SQLite reading a time window alternates between a page of the timestamp index
+    and a page of rows, which lie in different blocks; with one block kept, each switch read a whole block
+    from the disk cache again (reading one topic of a 317.6 MB ``.db3`` from a warm cache took 2.2 s with
+    one block kept, 0.9 s with two; the local file 0.4-0.6 s). It costs a block more of memory per open file.
 
     Buffered, not raw: the ``mcap`` reader wraps raw streams in a ``BufferedReader`` of its own, which
     reads ahead past the record it wants and closes the stream when it is collected."""
@@ -94,14 +99,18 @@ class RangedFile(io.BufferedIOBase):
         self._pos = 0
         self._next = -2  # the block after the last one read: a read starting there continues
         self._streak = 0  # reads in a row that continued the one before
-        self._mem_index = -1
-        self._mem = b""
+        self._mem: dict[int, bytes] = {}  # the blocks last read, at most MEMORY_BLOCKS, oldest first
         self._records: list[tuple[int, int]] = []  # (start, stop) of records a reader reads whole
 
     @property
     def size(self) -> int:
         """The object's size in bytes (the HEAD's when the catalog recorded none)."""
         return self._stored.size
+
+    @property
+    def identity(self) -> str:
+        """What the stored content is: a hash of its bucket, key and ETag (its blocks' directory name)."""
+        return self._obj
 
     def hint_records(self, spans: list[tuple[int, int]]) -> None:
         """Tell the file the byte spans of records that are read whole (a bag's chunks, from its index):
@@ -134,8 +143,8 @@ class RangedFile(io.BufferedIOBase):
             return b""
         start, self._pos = self._pos, stop
         first = start // self._block
-        if first == self._mem_index and stop <= (first + 1) * self._block:
-            return self._mem[start - first * self._block : stop - first * self._block]
+        if (held := self._mem.get(first)) is not None and stop <= (first + 1) * self._block:
+            return held[start - first * self._block : stop - first * self._block]
         return self._range(start, stop)
 
     def readinto(self, buffer: WriteableBuffer) -> int:
@@ -151,9 +160,15 @@ class RangedFile(io.BufferedIOBase):
         ahead = max(ahead, min(self._record_end(start) // self._block, self._count - 1))
         self._next = last + 1
         parts = self._blocks_of(first, last, ahead)
-        self._mem_index, self._mem = last, parts[-1]
+        self._remember(last, parts[-1])
         joined = parts[0] if len(parts) == 1 else b"".join(parts)
         return joined[start - first * self._block : stop - first * self._block]
+
+    def _remember(self, index: int, block: bytes) -> None:
+        self._mem.pop(index, None)
+        self._mem[index] = block
+        while len(self._mem) > MEMORY_BLOCKS:
+            del self._mem[next(iter(self._mem))]
 
     def _record_end(self, offset: int) -> int:
         """The last byte of the hinted record holding ``offset`` (``offset`` when none does)."""
@@ -168,7 +183,9 @@ class RangedFile(io.BufferedIOBase):
         parts: list[bytes] = []
         index = first
         while index <= last:
-            found = self._mem if index == self._mem_index else self._blocks.cached(self._obj, index)
+            found = self._mem.get(index)
+            if found is None:
+                found = self._blocks.cached(self._obj, index)
             if found is None:
                 fetched = self._fetch_run(index, max(ahead, last))
                 parts += fetched[: last - index + 1]

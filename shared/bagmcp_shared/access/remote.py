@@ -1,15 +1,18 @@
-"""Team mode's bag files with range reads: bare MCAP files, ROS 1 bags and ROS 2 directories of MCAP
-storage files are read where they are stored.
+"""Team mode's bag files with range reads: bare MCAP files, ROS 1 bags and ROS 2 directories of MCAP or
+sqlite3 storage files are read where they are stored.
 
 A point read of an MCAP bag fetches its header block, its footer and summary (chunk indexes) and the
 chunks that overlap the topic and window; of a ROS 1 bag, its header, the index at its end (connections
 and chunk infos) and the chunks that overlap; all through the host's block cache, nothing copied whole.
-A ROS 2 directory of MCAP storage files is read the same way per file, metadata.yaml as one small read.
-ROS 2 directories with sqlite3 (.db3) or zstd-compressed (.mcap.zstd) storage files are still copied whole
-by ``CachedBagFiles`` (SQLite opens its database by path; a zstd stream cannot be entered in the middle),
-and other formats (ULog, DataFlash). Ingest reads ranged bags by range too (their format from their first
-bytes); the others it copies whole, and drops the copy afterwards (``drop_copy``). Downloads stream from the
-object store (``parts_of``)."""
+A ROS 2 directory of MCAP storage files is read the same way per file, metadata.yaml as one small read;
+a sqlite3 storage file (.db3) page by page, as SQLite asks for its pages (bags/sqlite3_stream.py: an apsw
+VFS over the same ranged file), each topic's count and bounds taken from the catalog instead of a scan of
+every row (ingest, which has no catalog summary yet, scans: it streams each .db3 through the block cache).
+ROS 2 directories with zstd-compressed (.mcap.zstd, .db3.zstd) storage files are still copied whole by
+``CachedBagFiles`` (a zstd stream cannot be entered in the middle), and other formats (ULog, DataFlash).
+Ingest reads ranged bags by range too (their format from their first bytes, or a directory's from its file
+names); the others it copies whole, and drops the copy afterwards (``drop_copy``). Downloads stream from
+the object store (``parts_of``)."""
 
 from __future__ import annotations
 
@@ -23,6 +26,7 @@ from bagmcp_shared.access.files import CachedBagFiles
 from bagmcp_shared.access.ranged import UNKNOWN_SIZE, RangedFile, RangeStore, StoredFile, changed
 from bagmcp_shared.bags import BagFormat, BagReader, open_directory_stream, open_stream
 from bagmcp_shared.bags.detect import format_of_head
+from bagmcp_shared.bags.source import TopicTotals
 from bagmcp_shared.catalog.models import BagRecord
 from bagmcp_shared.settings import RangeReads
 from bagmcp_shared.storage import ObjectStore
@@ -33,7 +37,8 @@ class RemoteStore(ObjectStore, RangeStore, Protocol):
 
 
 class RangedBagFiles(CachedBagFiles):
-    """``CachedBagFiles`` whose readers of ``ranged`` bags (MCAP, ROS 1, ROS 2 MCAP) read through ``blocks``."""
+    """``CachedBagFiles`` whose readers of ``ranged`` bags (MCAP, ROS 1, ROS 2 MCAP or sqlite3) read through
+    ``blocks``."""
 
     def __init__(self, store: RemoteStore, cache_dir: Path, *, max_bytes: int, reads: RangeReads) -> None:
         super().__init__(store, cache_dir, max_bytes=max_bytes)
@@ -64,7 +69,7 @@ class RangedBagFiles(CachedBagFiles):
         if record.summary is not None:
             return BagFormat(record.summary.format) if ranged(record) else None
         if record.layout == "directory":
-            return BagFormat.ROS2_MCAP if _mcap_storage(record) else None
+            return _directory_format(record)
         with self.open_file(self._stored(record)) as file:
             fmt = format_of_head(file.read(16))
         return fmt if fmt in RANGED else None
@@ -75,8 +80,9 @@ class RangedBagFiles(CachedBagFiles):
         return ranged(record) and self.drop_copy(record)
 
     def _open_directory(self, record: BagRecord, label: Path) -> BagReader:
-        """A ROS 2 directory of MCAP storage files: metadata.yaml read whole (a few KB, through the block
-        cache like the rest), each storage file opened by range (its HEAD gives the size the catalog lacks)."""
+        """A ROS 2 directory of MCAP or sqlite3 storage files: metadata.yaml read whole (a few KB, through the
+        block cache like the rest), each storage file opened by range (its HEAD gives the size the catalog
+        lacks); the catalog's per-topic totals stand in for sqlite3 files' scans of every row."""
         metadata: bytes | None = None
         storage: dict[str, tuple[BinaryIO, int]] = {}
         try:
@@ -96,7 +102,7 @@ class RangedBagFiles(CachedBagFiles):
             for stream, _ in storage.values():
                 stream.close()
             raise
-        return open_directory_stream(label, metadata, storage)
+        return open_directory_stream(label, metadata, storage, totals=topic_totals(record))
 
     def open_file(self, stored: StoredFile) -> RangedFile:
         """A seekable file over ``stored``, read through the block cache."""
@@ -104,20 +110,33 @@ class RangedBagFiles(CachedBagFiles):
 
 
 RANGED = frozenset({BagFormat.MCAP, BagFormat.ROS1})
+RANGED_ROS2 = frozenset({BagFormat.ROS2_MCAP, BagFormat.ROS2_SQLITE3})
 METADATA = "metadata.yaml"
 
 
 def ranged(record: BagRecord) -> bool:
     """Whether the bag is read by range: ingested, and a single bare MCAP file or ROS 1 bag, or a ROS 2
-    directory whose storage files are all uncompressed-by-file MCAP files (``.mcap``)."""
+    directory whose storage files are all uncompressed-by-file MCAP (``.mcap``) or sqlite3 (``.db3``) files."""
     if record.summary is None:
         return False
     if record.layout == "file":
         return record.summary.format in RANGED
-    return record.summary.format == BagFormat.ROS2_MCAP and _mcap_storage(record)
+    return record.summary.format in RANGED_ROS2 and _directory_format(record) is not None
 
 
-def _mcap_storage(record: BagRecord) -> bool:
-    """A ROS 2 directory whose storage files are all plain MCAP files (``.mcap``, not ``.mcap.zstd``)."""
+def _directory_format(record: BagRecord) -> BagFormat | None:
+    """ROS2_SQLITE3 or ROS2_MCAP for a ROS 2 directory whose storage files are all plain ``.db3`` or ``.mcap``
+    files (``.db3`` files all, or not all), else None. A directory stored with other files (one without
+    metadata.yaml keeps all it came with) stays copied whole: a ``.db3-wal`` beside its database holds rows
+    SQLite reads from a local copy."""
     storage = [name for name in record.files if Path(name).name != METADATA]
-    return bool(storage) and all(name.endswith(".mcap") for name in storage)
+    if not storage or not all(name.endswith((".mcap", ".db3")) for name in storage):
+        return None
+    return BagFormat.ROS2_SQLITE3 if all(name.endswith(".db3") for name in storage) else BagFormat.ROS2_MCAP
+
+
+def topic_totals(record: BagRecord) -> TopicTotals | None:
+    """Each topic's count and first/last log time as ingest recorded them (from these very files)."""
+    if record.summary is None:
+        return None
+    return {topic.name: (topic.count, topic.first_ns, topic.last_ns) for topic in record.summary.topics}

@@ -18,7 +18,7 @@ from bagmcp_shared.bags.models import BagFormat, BagSummary, Compression, Connec
 from bagmcp_shared.bags.ros1_ranges import Ros1RangeSource
 from bagmcp_shared.bags.ros1_source import Ros1Source
 from bagmcp_shared.bags.ros2_dir import open_directory, open_directory_streams, open_storage_file
-from bagmcp_shared.bags.source import MessageSource
+from bagmcp_shared.bags.source import MessageSource, TopicTotals
 from bagmcp_shared.errors import BagError, BagmcpError, DamagedBagError, TopicNotFoundError, UnsupportedFormatError
 
 log = logging.getLogger(__name__)
@@ -249,16 +249,22 @@ def open_stream(name: Path, stream: BinaryIO, *, size: int, fmt: BagFormat) -> B
     return BagReader(name, source, fmt, [name], stack, size_bytes=size)
 
 
-def open_directory_stream(name: Path, metadata: bytes | None, storage: Mapping[str, tuple[BinaryIO, int]]) -> BagReader:
-    """Open a ROS 2 bag directory of MCAP storage files, each read through a seekable stream (see
-    ``open_directory_streams``); ``name`` stands for the directory in messages. Closing the reader
-    closes the streams."""
+def open_directory_stream(
+    name: Path,
+    metadata: bytes | None,
+    storage: Mapping[str, tuple[BinaryIO, int]],
+    *,
+    totals: TopicTotals | None = None,
+) -> BagReader:
+    """Open a ROS 2 bag directory of MCAP or sqlite3 storage files, each read through a seekable stream
+    (see ``open_directory_streams``, and ``totals`` there); ``name`` stands for the directory in messages.
+    Closing the reader closes the streams."""
     stack = ExitStack()
     try:
         with damage_named(name):
-            source, files = open_directory_streams(name, metadata, storage, stack)
+            source, fmt, files = open_directory_streams(name, metadata, storage, stack, totals=totals)
     except BaseException:
         stack.close()
         raise
     size = sum(size for _, size in storage.values())  # as a local directory counts it: its storage files
-    return BagReader(name, source, BagFormat.ROS2_MCAP, files, stack, size_bytes=size)
+    return BagReader(name, source, fmt, files, stack, size_bytes=size)

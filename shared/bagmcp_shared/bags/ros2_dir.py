@@ -14,7 +14,7 @@ import zstandard
 from bagmcp_shared.bags.detect import sniff_file
 from bagmcp_shared.bags.mcap_source import McapSource
 from bagmcp_shared.bags.models import BagFormat, Compression, Connection, RawMessage
-from bagmcp_shared.bags.source import MergedSource, MessageSource
+from bagmcp_shared.bags.source import MergedSource, MessageSource, TopicTotals
 from bagmcp_shared.bags.sqlite3_source import Sqlite3Source
 from bagmcp_shared.bags.user_yaml import UserYamlError, load_user_yaml, read_user_yaml
 from bagmcp_shared.budget import check_record, input_budget
@@ -93,13 +93,19 @@ def _declared_topics(info: dict[str, object]) -> dict[str, tuple[str, int]]:
     return declared
 
 
-def _disagreements(info: dict[str, object] | None, connections: Sequence[Connection]) -> list[str]:
-    """Notes where metadata.yaml contradicts the storage files (which are what is read)."""
-    if info is None:
-        return []
+def _counts(connections: Sequence[Connection]) -> dict[str, int]:
+    """Each topic's message count over the storage files."""
     actual: dict[str, int] = {}
     for conn in connections:
         actual[conn.topic] = actual.get(conn.topic, 0) + conn.count
+    return actual
+
+
+def _disagreements(info: dict[str, object] | None, actual: Mapping[str, int]) -> list[str]:
+    """Notes where metadata.yaml contradicts the storage files (which are what is read; ``actual`` is each
+    topic's count in them)."""
+    if info is None:
+        return []
     notes = []
     for topic, (fmt, count) in sorted(_declared_topics(info).items()):
         if fmt != "cdr":
@@ -219,15 +225,23 @@ def open_directory(
     fmt = BagFormat.ROS2_SQLITE3 if kinds == {BagFormat.ROS2_SQLITE3} else BagFormat.ROS2_MCAP
     conns = [c for s in sources for c in s.connections]
     compression = {"file": Compression.ZSTD_FILE, "message": Compression.ZSTD_MESSAGE}.get(mode)
-    return MergedSource(sources, notes=_disagreements(info, conns), compression=compression), fmt, files
+    notes = _disagreements(info, _counts(conns))
+    return MergedSource(sources, notes=notes, compression=compression), fmt, files
 
 
 def open_directory_streams(
-    directory: Path, metadata: bytes | None, storage: Mapping[str, tuple[BinaryIO, int]], stack: ExitStack
-) -> tuple[MessageSource, list[Path]]:
-    """A ROS 2 bag directory whose storage files are MCAP files read through seekable streams (team mode
-    reads them where they are stored, by byte ranges): ``metadata`` is metadata.yaml's bytes (None when the
-    directory has none), ``storage`` maps each storage file's name to (stream, size). The streams are
+    directory: Path,
+    metadata: bytes | None,
+    storage: Mapping[str, tuple[BinaryIO, int]],
+    stack: ExitStack,
+    *,
+    totals: TopicTotals | None = None,
+) -> tuple[MessageSource, BagFormat, list[Path]]:
+    """A ROS 2 bag directory whose storage files (MCAP or sqlite3) are read through seekable streams (team
+    mode reads them where they are stored, by byte ranges): ``metadata`` is metadata.yaml's bytes (None when
+    the directory has none), ``storage`` maps each storage file's name to (stream, size). ``totals`` are the
+    catalog's count and first/last time of each topic: given, sqlite3 files are not counted (a scan of every
+    row), unless the totals cannot stand for them (a topic of two types, or one they lack). The streams are
     closed with ``stack``. zstd-compressed storage files (compression_mode: file) are not read this way:
     they are decompressed whole first, by ``open_directory``."""
     for stream, _ in storage.values():
@@ -241,12 +255,40 @@ def open_directory_streams(
     if missing := [name for name in names if name not in storage]:
         raise DamagedBagError(f"{directory}: storage files listed in metadata.yaml are missing: {missing}")
     sources: list[MessageSource] = []
+    uncounted: list[Sqlite3Source] = []
     for name in names:
-        stream, size = storage[name]
-        source = McapSource(directory / name, stream=stream, size=size)
+        source = _stream_source(directory / name, storage[name], counted=totals is None)
         stack.callback(source.close)
         sources.append(_DecompressedMessages(source) if mode == "message" else source)
+        if isinstance(source, Sqlite3Source) and totals is not None:
+            uncounted.append(source)
     conns = [c for s in sources for c in s.connections]
+    if uncounted and not _totals_fit(conns, totals):
+        for source in uncounted:
+            source.count_rows()
+        conns = [c for s in sources for c in s.connections]
+        uncounted = []
+    totals = totals if uncounted else None  # nothing left uncounted: the files' own counts
+    actual = {topic: count for topic, (count, _, _) in totals.items()} if totals is not None else _counts(conns)
     compression = Compression.ZSTD_MESSAGE if mode == "message" else None
-    merged = MergedSource(sources, notes=_disagreements(info, conns), compression=compression)
-    return merged, [directory / name for name in names]
+    merged = MergedSource(sources, notes=_disagreements(info, actual), compression=compression, totals=totals)
+    sqlite3 = bool(names) and all(name.endswith(".db3") for name in names)
+    return merged, BagFormat.ROS2_SQLITE3 if sqlite3 else BagFormat.ROS2_MCAP, [directory / name for name in names]
+
+
+def _totals_fit(connections: Sequence[Connection], totals: TopicTotals | None) -> bool:
+    """Whether the bag's per-topic ``totals`` can stand for what ``connections`` would count: every topic
+    in them, each of one type."""
+    if totals is None:
+        return False
+    types: dict[str, set[str]] = {}
+    for conn in connections:
+        types.setdefault(conn.topic, set()).add(conn.msgtype)
+    return all(topic in totals and len(kinds) == 1 for topic, kinds in types.items())
+
+
+def _stream_source(path: Path, stream: tuple[BinaryIO, int], *, counted: bool) -> MessageSource:
+    """A storage file read through ``stream``: sqlite3 by its name (``.db3``), else MCAP."""
+    if path.suffix == ".db3":
+        return Sqlite3Source(path, stream=stream, counted=counted)
+    return McapSource(path, stream=stream[0], size=stream[1])

@@ -3,11 +3,13 @@
 from __future__ import annotations
 
 import heapq
-from collections.abc import Collection, Iterator, Sequence
+from collections.abc import Collection, Iterator, Mapping, Sequence
 from dataclasses import replace
 from typing import Protocol
 
 from bagmcp_shared.bags.models import Compression, Connection, RawMessage
+
+TopicTotals = Mapping[str, tuple[int, int | None, int | None]]  # topic -> (count, first ns, last ns) of a bag
 
 
 class MessageSource(Protocol):
@@ -46,7 +48,10 @@ class MergedSource:
 
     Connections with the same topic and type across files become one connection whose count
     is the sum; messages from all files are merged in time order. The compression is ``compression``
-    when given (a ROS 2 bag's compression_mode), else what most of its files use.
+    when given (a ROS 2 bag's compression_mode), else what most of its files use. ``totals``, when given,
+    are each topic's count and first and last time in the whole bag, known beforehand (team mode: the
+    catalog's, counted at ingest from these very files): they stand for the files' own, which then need not
+    be counted (a sqlite3 file counts by a scan of every row); each topic must have one type.
     """
 
     def __init__(
@@ -55,8 +60,10 @@ class MergedSource:
         *,
         notes: Sequence[str] = (),
         compression: Compression | None = None,
+        totals: TopicTotals | None = None,
     ) -> None:
         self._sources = list(sources)
+        self._totals = totals
         self._notes = list(notes)
         self._compression = compression
         self._local_to_global: list[dict[int, Connection]] = []
@@ -71,6 +78,8 @@ class MergedSource:
                 merged[key] = replace(known, count=known.count + conn.count)
                 mapping[conn.id] = merged[key]
             self._local_to_global.append(mapping)
+        if totals is not None:
+            merged = {key: replace(conn, count=totals[conn.topic][0]) for key, conn in merged.items()}
         self._connections = list(merged.values())
         for mapping in self._local_to_global:
             for local_id, conn in mapping.items():
@@ -91,6 +100,10 @@ class MergedSource:
         return self._compression
 
     def bounds(self, connection_id: int) -> tuple[int, int] | None:
+        if self._totals is not None:
+            topic = next(c.topic for c in self._connections if c.id == connection_id)
+            _, first, last = self._totals[topic]
+            return (first, last) if first is not None and last is not None else None
         found: list[tuple[int, int]] = []
         for source, mapping in zip(self._sources, self._local_to_global, strict=True):
             for local_id, conn in mapping.items():

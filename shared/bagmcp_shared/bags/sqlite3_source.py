@@ -1,4 +1,5 @@
-"""ROS 2 sqlite3 storage files (``.db3``), read with the standard library's sqlite3.
+"""ROS 2 sqlite3 storage files (``.db3``): a local file read with the standard library's sqlite3, a stored
+one through a stream with apsw (see sqlite3_stream.py); the same queries either way.
 
 The storage file is the truth: topics, counts and definitions come from its tables, not from
 ``metadata.yaml`` (which real bags sometimes contradict).
@@ -9,39 +10,68 @@ from __future__ import annotations
 import sqlite3
 import threading
 from collections import OrderedDict
-from collections.abc import Collection, Iterator, Sequence
+from collections.abc import Collection, Iterable, Iterator, Sequence
 from contextlib import suppress
+from dataclasses import replace
 from pathlib import Path
+from typing import Any, BinaryIO, Protocol
+
+import apsw
 
 from bagmcp_shared.bags.models import Compression, Connection, Encoding, RawMessage
+from bagmcp_shared.bags.sqlite3_stream import connect_stream
 from bagmcp_shared.errors import DamagedBagError, UnsupportedFormatError
 
 _DEFINITION_FORMATS = {"ros2msg": "msg", "ros2idl": "idl"}
+_DB_ERRORS = (sqlite3.Error, apsw.Error)
 
 
-def _connect(path: Path) -> sqlite3.Connection:
-    """Open read-only and, unless a write-ahead log holds pages not yet in the file, immutable: SQLite then
+class Database(Protocol):
+    """What is used of a connection: sqlite3's and apsw's both have it."""
+
+    def execute(self, sql: str, params: Sequence[Any] = ..., /) -> Iterable[Any]: ...
+
+    def close(self) -> None: ...
+
+
+def _checked(path: Path, db: Database) -> Database:
+    """``db`` once its two tables answer; closed and a DamagedBagError naming ``path`` when they do not."""
+    try:
+        list(db.execute("SELECT 1 FROM messages LIMIT 1"))
+        list(db.execute("SELECT 1 FROM topics LIMIT 1"))
+    except _DB_ERRORS as err:
+        db.close()
+        raise DamagedBagError(f"{path}: not a readable ROS 2 sqlite3 bag ({err})") from err
+    return db
+
+
+def _local_uri(path: Path) -> str:
+    """Read-only and, unless a write-ahead log holds pages not yet in the file, immutable: SQLite then
     takes no locks and creates no ``-wal``/``-shm`` files beside a WAL-mode bag (``mode=ro`` alone creates
     both, writing into a folder the server serves and promises never to write to). A non-empty ``-wal``
     (a recording that was not checkpointed) holds messages the file lacks, so it is read through SQLite's
     WAL machinery, which needs the ``-shm`` index beside it."""
     wal = path.with_name(path.name + "-wal")
     pending = wal.exists() and wal.stat().st_size > 0
-    uri = f"{path.resolve().as_uri()}?mode=ro" + ("" if pending else "&immutable=1")
+    return f"{path.resolve().as_uri()}?mode=ro" + ("" if pending else "&immutable=1")
+
+
+def _connect(path: Path, stream: tuple[BinaryIO, int] | None) -> Database:
+    """The local file at ``path`` (sqlite3, see ``_local_uri``), or the database in ``stream`` (apsw, always
+    immutable: a stored bag has no side files)."""
     try:
-        db = sqlite3.connect(uri, uri=True, check_same_thread=False)
-        db.execute("SELECT 1 FROM messages LIMIT 1").fetchall()
-        db.execute("SELECT 1 FROM topics LIMIT 1").fetchall()
-    except sqlite3.Error as err:
+        if stream is not None:
+            return _checked(path, connect_stream(*stream))
+        return _checked(path, sqlite3.connect(_local_uri(path), uri=True, check_same_thread=False))
+    except _DB_ERRORS as err:
         raise DamagedBagError(f"{path}: not a readable ROS 2 sqlite3 bag ({err})") from err
-    return db
 
 
-def _columns(db: sqlite3.Connection, table: str) -> set[str]:
+def _columns(db: Database, table: str) -> set[str]:
     return {str(row[1]) for row in db.execute(f"PRAGMA table_info({table})")}
 
 
-def _definitions(db: sqlite3.Connection) -> dict[str, tuple[str, str]]:
+def _definitions(db: Database) -> dict[str, tuple[str, str]]:
     if "topic_type" not in _columns(db, "message_definitions"):
         return {}
     rows = db.execute("SELECT topic_type, encoding, encoded_message_definition FROM message_definitions")
@@ -58,7 +88,7 @@ _STATS_LOCK = threading.Lock()
 _STATS_KEPT = 64
 
 
-def _file_key(path: Path) -> tuple[object, ...]:
+def file_key(path: Path) -> tuple[object, ...]:
     """Identity of a storage file's content: path, size and mtime, with its WAL file if any."""
     parts: list[object] = [str(path.resolve())]
     for member in (path, path.with_name(path.name + "-wal")):
@@ -68,12 +98,18 @@ def _file_key(path: Path) -> tuple[object, ...]:
     return tuple(parts)
 
 
-def topic_stats(db: sqlite3.Connection, path: Path) -> TopicStats:
+def _stream_key(stream: BinaryIO) -> tuple[object, ...] | None:
+    """Identity of a stream's content when the stream tells it (``RangedFile.identity``: the object and
+    its ETag), else None (then nothing is remembered)."""
+    identity = getattr(stream, "identity", None)
+    return ("stream", identity) if isinstance(identity, str) and identity else None
+
+
+def topic_stats(db: Database, key: tuple[object, ...] | None) -> TopicStats:
     """Per-topic count and first/last timestamps. The table has no topic index, so this scans every
-    row: done once per file content and process, not on every open."""
-    key = _file_key(path)
+    row (every page of the file): done once per file content (``key``) and process, not on every open."""
     with _STATS_LOCK:
-        if (known := _STATS.get(key)) is not None:
+        if key is not None and (known := _STATS.get(key)) is not None:
             _STATS.move_to_end(key)
             return known
     stats = {
@@ -83,27 +119,44 @@ def topic_stats(db: sqlite3.Connection, path: Path) -> TopicStats:
         )
     }
     with _STATS_LOCK:
-        _STATS[key] = stats
+        if key is not None:
+            _STATS[key] = stats
         while len(_STATS) > _STATS_KEPT:
             _STATS.popitem(last=False)
     return stats
 
 
-class Sqlite3Source:
-    """One ``.db3`` file."""
+def forget_topic_stats() -> None:
+    """Forget every remembered count, as a fresh process would (tests of what an open fetches use it)."""
+    with _STATS_LOCK:
+        _STATS.clear()
 
-    def __init__(self, path: Path) -> None:
+
+class Sqlite3Source:
+    """One ``.db3`` file: a local one at ``path``, or one read through ``stream`` (a seekable stream and its
+    size; ``path`` then names it in messages). Opened with ``counted=False`` it does not count each topic's
+    messages, a scan of every row that on a stored file fetches all of it: its connections then hold no
+    count and it knows no bounds, until ``count_rows`` (whoever opens it so has the counts from elsewhere:
+    team mode from the catalog, see ``MergedSource``'s totals)."""
+
+    def __init__(self, path: Path, *, stream: tuple[BinaryIO, int] | None = None, counted: bool = True) -> None:
         self._path = path
-        self._db = _connect(path)
+        self._db = _connect(path, stream)
+        self._key = file_key(path) if stream is None else _stream_key(stream[0])
+        self._bounds: dict[int, tuple[int, int]] = {}
         try:
-            self._connections, self._bounds = self._read_topics()
-        except sqlite3.Error as err:
+            self._connections = self._read_topics()
+            if counted:
+                self.count_rows()
+        except _DB_ERRORS as err:
             self._db.close()
             raise DamagedBagError(f"{path}: the sqlite3 tables could not be read ({err})") from err
+        except BaseException:
+            self._db.close()
+            raise
 
-    def _read_topics(self) -> tuple[list[Connection], dict[int, tuple[int, int]]]:
+    def _read_topics(self) -> list[Connection]:
         db = self._db
-        stats = topic_stats(db, self._path)
         has_qos = "offered_qos_profiles" in _columns(db, "topics")
         qos_col = "offered_qos_profiles" if has_qos else "''"
         defs = _definitions(db)
@@ -116,11 +169,18 @@ class Sqlite3Source:
                     f"{self._path}: topic {name} uses serialization format {fmt!r}; only 'cdr' can be read"
                 )
             text, dfmt = defs.get(str(typ), ("", ""))
-            count = stats.get(int(tid), (0, 0, 0))[0]
             meta = (("offered_qos_profiles", str(qos)),) if qos else ()
-            connections.append(Connection(int(tid), str(name), str(typ), Encoding.CDR, text, dfmt, count, "", meta))
-        bounds = {tid: (lo, hi) for tid, (_, lo, hi) in stats.items()}
-        return connections, bounds
+            connections.append(Connection(int(tid), str(name), str(typ), Encoding.CDR, text, dfmt, 0, "", meta))
+        return connections
+
+    def count_rows(self) -> None:
+        """Count each topic's messages and find its first and last time (see ``topic_stats``)."""
+        try:
+            stats = topic_stats(self._db, self._key)
+        except _DB_ERRORS as err:
+            raise DamagedBagError(f"{self._path}: the sqlite3 tables could not be read ({err})") from err
+        self._connections = [replace(c, count=stats.get(c.id, (0, 0, 0))[0]) for c in self._connections]
+        self._bounds = {tid: (lo, hi) for tid, (_, lo, hi) in stats.items()}
 
     @property
     def connections(self) -> Sequence[Connection]:
@@ -157,7 +217,7 @@ class Sqlite3Source:
         try:
             for tid, timestamp, data in self._db.execute(query, args):
                 yield RawMessage(by_id[int(tid)], int(timestamp), bytes(data))
-        except sqlite3.Error as err:
+        except _DB_ERRORS as err:
             raise DamagedBagError(f"{self._path}: messages could not be read ({err})") from err
 
     def close(self) -> None:

@@ -8,7 +8,7 @@ from pathlib import Path
 import pytest
 
 from bagmcp_shared.bags import open_bag
-from bagmcp_shared.bags.sqlite3_source import topic_stats
+from bagmcp_shared.bags.sqlite3_source import file_key, topic_stats
 from bagmcp_shared.errors import TopicNotFoundError
 from bagmcp_shared.paths import extract, parse_field_path
 from tests.fixtures import scenario as sc
@@ -77,8 +77,8 @@ def test_sqlite3_topic_statistics_are_scanned_once_per_file_content(scenario_bag
     db = sqlite3.connect(f"{storage.resolve().as_uri()}?mode=ro", uri=True)
     scans: list[str] = []
     db.set_trace_callback(lambda statement: scans.append(statement) if "GROUP BY" in statement else None)
-    first = topic_stats(db, storage)
-    again = topic_stats(db, storage)
+    first = topic_stats(db, file_key(storage))
+    again = topic_stats(db, file_key(storage))
     db.close()
     assert again is first
     assert len(scans) <= 1  # zero when an earlier test already opened this file
