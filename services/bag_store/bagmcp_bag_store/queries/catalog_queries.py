@@ -1,9 +1,15 @@
-"""The logic behind list_bags, bag_info and describe_topic (catalog and type questions)."""
+"""The logic behind list_bags, bag_info and describe_topic (catalog and type questions), and their params
+models (the tools are declared in tools/catalog_tools.py)."""
 
 from __future__ import annotations
 
+from typing import Annotated
+
+from pydantic import BaseModel, Field
+
 from bagmcp_bag_store.queries.messages import message_out
 from bagmcp_bag_store.reports import BagBrief, BagInfo, BagList, FieldInfo, TopicDescription, TopicInfo
+from bagmcp_kit.arguments import BagRef, Offset, TopicName
 from bagmcp_shared.access import BagAccess
 from bagmcp_shared.catalog import BagRecord, Catalog, TopicStats, ready_record
 from bagmcp_shared.errors import ArgumentError
@@ -12,6 +18,22 @@ from bagmcp_shared.timebase import Instant
 from bagmcp_shared.units import unit_of
 
 MAX_FIELDS = 120
+
+
+class ListBagsParams(BaseModel):
+    name: Annotated[str | None, Field(description="part of the name")] = None
+    tag: Annotated[str | None, Field(description="with this tag")] = None
+    offset: Offset = 0
+    limit: Annotated[int, Field(ge=1, le=500, description="page size")] = 50
+
+
+class BagParams(BaseModel):
+    bag: BagRef
+
+
+class TopicParams(BaseModel):
+    bag: BagRef
+    topic: TopicName
 
 
 def _instant(stamp_ns: int | None, start_ns: int) -> Instant | None:
@@ -37,9 +59,9 @@ def _brief(record: BagRecord) -> BagBrief:
     )
 
 
-def list_bags(
-    catalog: Catalog, *, name: str | None = None, tag: str | None = None, offset: int = 0, limit: int = 50
-) -> BagList:
+def list_bags(catalog: Catalog, params: ListBagsParams) -> BagList:
+    """``params`` may come unvalidated (the REST route builds it as asked), hence the bounds check."""
+    name, tag, offset, limit = params.name, params.tag, params.offset, params.limit
     if offset < 0 or not 1 <= limit <= 500:
         raise ArgumentError("offset must be >= 0 and limit between 1 and 500")
     records = [r for r in catalog.all() if (not name or name.lower() in r.name.lower()) and (not tag or tag in r.tags)]
@@ -78,8 +100,8 @@ def _topic_info(topic: TopicStats, start_ns: int) -> TopicInfo:
     )
 
 
-def bag_info(catalog: Catalog, bag: str) -> BagInfo:
-    record = ready_record(catalog, bag)
+def bag_info(catalog: Catalog, params: BagParams) -> BagInfo:
+    record = ready_record(catalog, params.bag)
     summary = record.summary
     assert summary is not None  # a ready bag has its summary
     start_ns = summary.start_ns or 0
@@ -99,9 +121,9 @@ def bag_info(catalog: Catalog, bag: str) -> BagInfo:
     )
 
 
-def describe_topic(access: BagAccess, bag: str, topic: str, *, budget_bytes: int) -> TopicDescription:
-    with access.open(bag, need_messages=False) as ob:
-        conn = ob.reader.topic_connections(topic)[0]
+def describe_topic(access: BagAccess, params: TopicParams, *, budget_bytes: int) -> TopicDescription:
+    with access.open(params.bag, need_messages=False) as ob:
+        conn = ob.reader.topic_connections(params.topic)[0]
         store = ob.reader.decoder.typestore(conn.msgtype)
         paths = field_paths(store, conn.msgtype)
         stated = ob.reader.decoder.units(conn.msgtype)
