@@ -12,6 +12,7 @@ from bagmcp_analysis.images import Picture, compressed_image, encode_picture, ra
 from bagmcp_analysis.reports.images import ImageReport
 from bagmcp_kit.arguments import BagRef, TimeArg
 from bagmcp_shared.access import BagAccess
+from bagmcp_shared.carry import carried
 from bagmcp_shared.errors import ArgumentError
 from bagmcp_shared.jobs import Progress
 from bagmcp_shared.timebase import header_stamp_ns
@@ -73,7 +74,9 @@ def get_image_at_time(access: BagAccess, params: ImageParams, progress: Progress
             raise ArgumentError(f"{name} at {ob.instant(raw.log_time_ns).offset_s:.3f} s: {err}") from err
         header = header_stamp_ns(message)
         frame = getattr(getattr(message, "header", None), "frame_id", None)
-        report = ImageReport(
+        report = carried(
+            ImageReport,
+            picture,
             bag=ob.name,
             topic=name,
             type=msgtype,
@@ -82,12 +85,8 @@ def get_image_at_time(access: BagAccess, params: ImageParams, progress: Progress
             header_stamp_s=header / 1e9 if header else None,
             frame=str(frame) if frame else None,
             encoding=encoding,
-            width=picture.width,
-            height=picture.height,
             sent_width=encoded.width,
             sent_height=encoded.height,
             mime_type=encoded.mime_type,
-            kind=picture.kind,
-            depth=picture.depth,
         )
         return report.with_picture(encoded)

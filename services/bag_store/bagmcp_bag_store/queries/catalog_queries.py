@@ -11,6 +11,7 @@ from bagmcp_bag_store.queries.messages import message_out
 from bagmcp_bag_store.reports import BagBrief, BagInfo, BagList, FieldInfo, TopicDescription, TopicInfo
 from bagmcp_kit.arguments import BagRef, Offset, TopicName
 from bagmcp_shared.access import BagAccess
+from bagmcp_shared.carry import carried
 from bagmcp_shared.catalog import BagRecord, Catalog, TopicStats, ready_record
 from bagmcp_shared.errors import ArgumentError
 from bagmcp_shared.paths import field_paths
@@ -88,16 +89,8 @@ def topic_note(topic: TopicStats) -> str | None:
 
 
 def _topic_info(topic: TopicStats, start_ns: int) -> TopicInfo:
-    return TopicInfo(
-        note=topic_note(topic),
-        name=topic.name,
-        type=topic.type,
-        count=topic.count,
-        rate_hz=topic.rate_hz,
-        header_rate_hz=topic.header_rate_hz,
-        first=_instant(topic.first_ns, start_ns),
-        last=_instant(topic.last_ns, start_ns),
-    )
+    first, last = _instant(topic.first_ns, start_ns), _instant(topic.last_ns, start_ns)
+    return carried(TopicInfo, topic, note=topic_note(topic), first=first, last=last)
 
 
 def bag_info(catalog: Catalog, params: BagParams) -> BagInfo:
@@ -105,19 +98,13 @@ def bag_info(catalog: Catalog, params: BagParams) -> BagInfo:
     summary = record.summary
     assert summary is not None  # a ready bag has its summary
     start_ns = summary.start_ns or 0
-    return BagInfo(
-        id=record.id,
-        name=record.name,
-        status=record.status,
-        format=summary.format,
-        size_bytes=record.size_bytes,
-        sha256=record.sha256,
-        message_count=summary.message_count,
-        duration_s=summary.duration_s,
+    return carried(
+        BagInfo,
+        record,
+        summary,
         start=_instant(summary.start_ns, start_ns),
         end=_instant(summary.end_ns, start_ns),
         topics=[_topic_info(t, start_ns) for t in summary.topics],
-        notes=summary.notes,
     )
 
 
