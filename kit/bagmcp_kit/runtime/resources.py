@@ -90,6 +90,8 @@ def embedded_resources(
     jobs = MemoryJobStore()
     runner = ThreadRunner()
     runner.on_shutdown(jobs.cancel_unfinished)
+    cache = ReaderCache(open_bags)
+    runner.on_shutdown(cache.close)
     resources = Resources(
         catalog=catalog,
         files=files,
@@ -97,7 +99,7 @@ def embedded_resources(
         jobs=jobs,
         runner=runner,
         store=store,
-        access=BagAccess(catalog, files, cache=ReaderCache(open_bags)),
+        access=BagAccess(catalog, files, cache=cache),
         scratch=Path(tempfile.gettempdir()),
         uploads=False,
         job_budget_s=job_budget_s,
