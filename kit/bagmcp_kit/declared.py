@@ -26,7 +26,7 @@ from pydantic.fields import FieldInfo
 
 from bagmcp_kit.answers import answer, tool_errors
 from bagmcp_kit.arguments import READ_ONLY, ToolSpec, params_of
-from bagmcp_kit.jobs import LongAnswer
+from bagmcp_kit.job_info import LongAnswer
 from bagmcp_kit.longwork import LongWork
 from bagmcp_shared.jobs import JobKind, JobRegistry, Progress, Unreported
 from bagmcp_shared.tasks import TaskRef

@@ -12,7 +12,7 @@ from pydantic import BaseModel, Field
 from bagmcp_kit.arguments import STOPS, register
 from bagmcp_kit.declared import GIVEN, Declared, short_specs
 from bagmcp_kit.identity import LOCAL_CALLER, caller
-from bagmcp_kit.jobs import JobInfo
+from bagmcp_kit.job_info import JobInfo
 from bagmcp_shared.jobs import JobStore, Progress, owned
 
 

@@ -50,7 +50,7 @@ class Resources:
     catalog: Catalog
     files: BagFiles
     indexes: IndexPublisher
-    jobs: JobStore
+    job_store: JobStore
     runner: Runner
     store: ObjectStore
     access: BagAccess
@@ -96,7 +96,7 @@ def embedded_resources(
         catalog=catalog,
         files=files,
         indexes=files,
-        jobs=jobs,
+        job_store=jobs,
         runner=runner,
         store=store,
         access=BagAccess(catalog, files, cache=cache),
@@ -146,7 +146,7 @@ def team_resources(settings: TeamSettings, *, queue: str) -> Resources:
         catalog=catalog,
         files=files,
         indexes=files,
-        jobs=RedisJobStore(client),
+        job_store=RedisJobStore(client),
         runner=CeleryRunner(app),
         store=store,
         access=BagAccess(catalog, files, cache=ReaderCache(settings.open_bags)),

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from mcp.server.mcpserver import MCPServer
 
-from bagmcp_analysis.job_kinds import RUN_JOB
+from bagmcp_analysis.task_refs import RUN_JOB
 from bagmcp_analysis.tools.image_tools import IMAGE
 from bagmcp_analysis.tools.motion_tools import LIDAR, TRAJECTORY, WINDOW
 from bagmcp_analysis.tools.record_tools import LOGS, STATISTICS, TF_TREE, TRANSFORM

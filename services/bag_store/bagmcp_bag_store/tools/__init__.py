@@ -4,8 +4,8 @@ from __future__ import annotations
 
 from mcp.server.mcpserver import MCPServer
 
-from bagmcp_bag_store.job_kinds import RUN_JOB
 from bagmcp_bag_store.queries.page_cursor import CursorSigner, cursor_key
+from bagmcp_bag_store.task_refs import RUN_JOB
 from bagmcp_bag_store.tools.catalog_tools import BAG_INFO, DESCRIBE_TOPIC, LIST_BAGS
 from bagmcp_bag_store.tools.fleet_tools import FIND, QUERY, views_resource
 from bagmcp_bag_store.tools.message_tools import MESSAGE_AT_TIME, MESSAGES_IN_RANGE
