@@ -13,7 +13,7 @@ NOT_RESTORED = (
 
 def rebuild(_args: argparse.Namespace) -> int:
     from bagmcp_bag_store.ingest.rebuild import rebuild_catalog  # the bag-store's code: 10 s to import on a busy
-    from bagmcp_bag_store.job_kinds import QUEUE  # machine, so only when this command runs
+    from bagmcp_bag_store.task_refs import QUEUE  # machine, so only when this command runs
     from bagmcp_bag_store.wiring import ingest_queue
     from bagmcp_kit.runtime.resources import team_resources
     from bagmcp_shared.settings import Env, TeamSettings

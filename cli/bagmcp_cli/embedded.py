@@ -46,7 +46,7 @@ def compose(settings: EmbeddedSettings, *, public_url: str = "") -> Composition:
         analysis_part(embedded),
         plotting_part(embedded, artifact_base_url=public_url),
     ]
-    jobs = Upstream(name="jobs", server=build_jobs_server(embedded.resources.jobs))
+    jobs = Upstream(name="jobs", server=build_jobs_server(embedded.resources.job_store))
     return Composition(embedded, parts, [*(Upstream(name=p.name, server=p.server) for p in parts), jobs])
 
 

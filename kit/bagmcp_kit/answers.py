@@ -4,17 +4,14 @@
 from __future__ import annotations
 
 import json
-from collections.abc import Callable, Iterator
+from collections.abc import Iterator
 from contextlib import contextmanager
-from typing import TypeVar
 
 from mcp.server.mcpserver.exceptions import ToolError
 from mcp.types import CallToolResult, ContentBlock, TextContent
 from pydantic import BaseModel
 
 from bagmcp_shared.errors import BagmcpError, sentence
-
-M = TypeVar("M", bound=BaseModel)
 
 
 @contextmanager
@@ -38,10 +35,3 @@ def answer(
     text = f"{summary}\n{json.dumps(data, separators=(',', ':'))}"
     content: list[ContentBlock] = [TextContent(type="text", text=text), *(extra or [])]
     return CallToolResult(content=content, structured_content=data)
-
-
-def run_query(query: Callable[[], M], summarize: Callable[[M], str]) -> CallToolResult:
-    """Run a query and answer with its result, or with a tool error saying what went wrong."""
-    with tool_errors():
-        model = query()
-    return answer(model, summarize(model))

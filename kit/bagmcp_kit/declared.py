@@ -14,7 +14,7 @@ resources, so adding a long-work tool is its declaration and its query function 
 from __future__ import annotations
 
 import inspect
-from collections.abc import Awaitable, Callable
+from collections.abc import Awaitable, Callable, Sequence
 from dataclasses import dataclass, field
 from typing import Annotated, Any, Generic, TypeVar, cast
 
@@ -26,7 +26,7 @@ from pydantic.fields import FieldInfo
 
 from bagmcp_kit.answers import answer, tool_errors
 from bagmcp_kit.arguments import READ_ONLY, ToolSpec, params_of
-from bagmcp_kit.jobs import LongAnswer
+from bagmcp_kit.job_info import LongAnswer
 from bagmcp_kit.longwork import LongWork
 from bagmcp_shared.jobs import JobKind, JobRegistry, Progress, Unreported
 from bagmcp_shared.tasks import TaskRef
@@ -89,10 +89,22 @@ class ServiceTools(Generic[S]):
 
     def specs(self, deps: S, work: LongWork) -> list[ToolSpec]:
         """The MCP tools, each a function with the signature its params model describes."""
-        return [
-            ToolSpec(_function(tool, _runner(self, tool, deps, work)), tool.annotations, view=tool.view is not None)
-            for tool in self.tools
-        ]
+        return [_spec(tool, deps, self._long(tool, deps, work) if tool.long else None) for tool in self.tools]
+
+    def _long(self, tool: Declared[S, P, R], deps: S, work: LongWork) -> LongRun[P]:
+        """A long-work call: inline when small, else a job of the tool's kind."""
+        small = None if tool.small is None else (lambda params: tool.small(deps, params))  # type: ignore[misc]
+        inline = None if tool.inline is None else (lambda params: tool.inline(deps, params))  # type: ignore[misc]
+        attach, kind = _attach(tool, deps), self.kind(tool)
+        return lambda ctx, params: work.run(ctx, kind, params, tool.summary, small=small, inline=inline, attach=attach)
+
+
+def short_specs(deps: S, tools: Sequence[Declared[S, Any, Any]]) -> list[ToolSpec]:
+    """Tools that never run as jobs, outside any service's queue (the bag-store's reading tools on their own
+    bundle, the jobs tools on the job store): each call runs in a worker thread."""
+    if long := [tool.name for tool in tools if tool.long]:
+        raise ValueError(f"{', '.join(long)}: long work needs a job kind; declare it in the service's ServiceTools")
+    return [_spec(tool, deps, None) for tool in tools]
 
 
 def _bound(work: Callable[[S, P, Progress], R], deps: S) -> Callable[[P, Progress], R]:
@@ -100,22 +112,28 @@ def _bound(work: Callable[[S, P, Progress], R], deps: S) -> Callable[[P, Progres
 
 
 Run = Callable[[Context, dict[str, object]], Awaitable[CallToolResult]]
+LongRun = Callable[[Context, P], Awaitable[CallToolResult]]
 
 
-def _runner(service: ServiceTools[S], tool: Declared[S, P, R], deps: S, work: LongWork) -> Run:
+def _attach(tool: Declared[S, P, R], deps: S) -> Callable[[R], list[ContentBlock]] | None:
+    return None if tool.attach is None else (lambda result: tool.attach(deps, result))  # type: ignore[misc]
+
+
+def _spec(tool: Declared[S, P, R], deps: S, long: LongRun[P] | None) -> ToolSpec:
+    return ToolSpec(_function(tool, _runner(tool, deps, long)), tool.annotations, view=tool.view is not None)
+
+
+def _runner(tool: Declared[S, P, R], deps: S, long: LongRun[P] | None) -> Run:
     """What a call does: its arguments (and the given fields) become the typed params; long work runs through
-    ``work``, short work in a thread; then the view hook."""
-    attach = None if tool.attach is None else (lambda result: tool.attach(deps, result))  # type: ignore[misc]
-    small = None if tool.small is None else (lambda params: tool.small(deps, params))  # type: ignore[misc]
-    inline = None if tool.inline is None else (lambda params: tool.inline(deps, params))  # type: ignore[misc]
-    kind = service.kind(tool)
+    ``long``, short work in a thread; then the view hook."""
+    attach = _attach(tool, deps)
 
     async def run(ctx: Context, arguments: dict[str, object]) -> CallToolResult:
         with tool_errors():
             given = tool.given(ctx, deps) if tool.given is not None else {}
             typed = params_of(tool.params, **{**arguments, **given})
-        if tool.long:
-            done = await work.run(ctx, kind, typed, tool.summary, small=small, inline=inline, attach=attach)
+        if long is not None:
+            done = await long(ctx, typed)
         else:
             done = await anyio.to_thread.run_sync(_short, tool, deps, typed, attach)
         return done if tool.view is None else await tool.view(ctx, deps, typed, done)

@@ -15,7 +15,7 @@ from pydantic import BaseModel
 
 from bagmcp_kit.answers import answer, tool_errors
 from bagmcp_kit.identity import caller
-from bagmcp_kit.jobs import JobInfo, LongAnswer
+from bagmcp_kit.job_info import JobInfo, LongAnswer
 from bagmcp_shared.jobs import Job, JobKind, JobRegistry, JobStore, Unreported
 from bagmcp_shared.tasks import Runner
 

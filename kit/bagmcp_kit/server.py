@@ -9,11 +9,10 @@ from mcp.server.auth.settings import AuthSettings
 from mcp.server.mcpserver import MCPServer
 from pydantic import AnyHttpUrl
 
-from bagmcp_kit.arguments import CONVENTIONS, register
+from bagmcp_kit.arguments import CONVENTIONS, ToolSpec, register
 from bagmcp_kit.auth import SERVICE_SCOPE, ServiceTokenVerifier
 from bagmcp_kit.fetch_meta import fetched_bytes_meta
 from bagmcp_kit.ingest_wait import IngestWait, wait_for_ingest
-from bagmcp_kit.toolsets import tools_of
 from bagmcp_kit.web.viewers import add_viewer, ui_meta
 from bagmcp_shared.settings import ServiceSettings
 
@@ -35,11 +34,11 @@ def new_server(
     name: str,
     *,
     purpose: str,
-    tools: Sequence[object],
+    tools: Sequence[ToolSpec],
     guard: McpGuard | None = None,
     ingest: IngestWait | None = None,
 ) -> MCPServer:
-    """An MCP server with the marked tools of ``tools`` (objects, in order), whose instructions state
+    """An MCP server with ``tools`` (declared, kit/declared.py; in order), whose instructions state
     what it is for and the shared conventions once. Tools marked with a view point at the service's MCP
     Apps viewer, ``ui://<name without "bagmcp-">/viewer.html``, served here as a resource.
 
@@ -58,9 +57,8 @@ def new_server(
         server = MCPServer(
             name, instructions=instructions, token_verifier=ServiceTokenVerifier(guard.service_token), auth=auth
         )
-    specs = tools_of(*tools)
-    viewer = ui_meta(add_viewer(server, name.removeprefix("bagmcp-"))) if any(s.view for s in specs) else None
-    register(server, specs, viewer_meta=viewer)
+    viewer = ui_meta(add_viewer(server, name.removeprefix("bagmcp-"))) if any(s.view for s in tools) else None
+    register(server, tools, viewer_meta=viewer)
     server.middleware.append(fetched_bytes_meta)
     if ingest is not None:
         server.middleware.append(wait_for_ingest(ingest.catalog, budget_s=ingest.budget_s))

@@ -20,7 +20,7 @@ import anyio
 import httpx
 import pytest
 
-from bagmcp_bag_store.job_kinds import INGEST
+from bagmcp_bag_store.task_refs import INGEST
 from tests.checks.fault_checks import check_consistent
 from tests.checks.search_checks import finished
 from tests.fixtures.bagfactory import BagKind

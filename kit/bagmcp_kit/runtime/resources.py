@@ -50,7 +50,7 @@ class Resources:
     catalog: Catalog
     files: BagFiles
     indexes: IndexPublisher
-    jobs: JobStore
+    job_store: JobStore
     runner: Runner
     store: ObjectStore
     access: BagAccess
@@ -90,14 +90,16 @@ def embedded_resources(
     jobs = MemoryJobStore()
     runner = ThreadRunner()
     runner.on_shutdown(jobs.cancel_unfinished)
+    cache = ReaderCache(open_bags)
+    runner.on_shutdown(cache.close)
     resources = Resources(
         catalog=catalog,
         files=files,
         indexes=files,
-        jobs=jobs,
+        job_store=jobs,
         runner=runner,
         store=store,
-        access=BagAccess(catalog, files, cache=ReaderCache(open_bags)),
+        access=BagAccess(catalog, files, cache=cache),
         scratch=Path(tempfile.gettempdir()),
         uploads=False,
         job_budget_s=job_budget_s,
@@ -144,7 +146,7 @@ def team_resources(settings: TeamSettings, *, queue: str) -> Resources:
         catalog=catalog,
         files=files,
         indexes=files,
-        jobs=RedisJobStore(client),
+        job_store=RedisJobStore(client),
         runner=CeleryRunner(app),
         store=store,
         access=BagAccess(catalog, files, cache=ReaderCache(settings.open_bags)),

@@ -35,5 +35,5 @@ def job_worker(task: TaskRef, build: Callable[[Resources], JobRegistry]) -> tupl
     app = create_celery(settings.redis_url, queue=task.queue, visibility_timeout_s=settings.task_visibility_timeout_s)
     resources = functools.cache(lambda: team_resources(settings, queue=task.queue))
     registry = functools.cache(lambda: build(resources()))
-    register_job_task(app, task, registry, lambda: resources().jobs)
+    register_job_task(app, task, registry, lambda: resources().job_store)
     return app, resources

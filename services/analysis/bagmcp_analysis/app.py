@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from fastapi import FastAPI
 
-from bagmcp_analysis.job_kinds import QUEUE
+from bagmcp_analysis.task_refs import QUEUE
 from bagmcp_analysis.wiring import build_analysis
 from bagmcp_kit.runtime.resources import team_resources
 from bagmcp_kit.server import McpGuard

@@ -19,5 +19,5 @@ def build_registry(access: BagAccess) -> JobRegistry:
 
 def build_analysis(res: Resources, *, guard: McpGuard | None = None) -> tuple[MCPServer, JobRegistry]:
     registry = build_registry(res.access)
-    work = LongWork(res.jobs, res.runner, registry, budget_s=res.job_budget_s)
+    work = LongWork(res.job_store, res.runner, registry, budget_s=res.job_budget_s)
     return build_server(res.access, work, guard=guard), registry

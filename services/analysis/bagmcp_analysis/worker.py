@@ -3,7 +3,7 @@ analysis queue). Settings come from BAGMCP_*; resources are built on the first t
 
 from __future__ import annotations
 
-from bagmcp_analysis.job_kinds import RUN_JOB
+from bagmcp_analysis.task_refs import RUN_JOB
 from bagmcp_analysis.wiring import build_registry
 from bagmcp_kit.runtime.worker import job_worker
 

@@ -67,7 +67,8 @@ def build_router(
 
     @router.get("/bags")
     def list_all(name: str | None = None, tag: str | None = None, offset: int = 0, limit: int = 50) -> BagList:
-        return catalog_queries.list_bags(access.catalog, name=name, tag=tag, offset=offset, limit=limit)
+        asked = catalog_queries.ListBagsParams.model_construct(name=name, tag=tag, offset=offset, limit=limit)
+        return catalog_queries.list_bags(access.catalog, asked)
 
     @router.get("/bags/{ref}")
     def get_one(ref: str) -> BagRecord:

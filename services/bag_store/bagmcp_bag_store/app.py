@@ -7,8 +7,8 @@ from fastapi import FastAPI
 from bagmcp_bag_store.errors import STATUSES
 from bagmcp_bag_store.fleet.backfill import queue_fleet_backfill
 from bagmcp_bag_store.ingest.rebuild import RESTORE_WAIT_S, restore_lost_catalog
-from bagmcp_bag_store.job_kinds import QUEUE
 from bagmcp_bag_store.settings import BagStoreSettings
+from bagmcp_bag_store.task_refs import QUEUE
 from bagmcp_bag_store.wiring import build_bag_store, ingest_queue
 from bagmcp_kit.runtime.resources import team_resources
 from bagmcp_kit.server import McpGuard

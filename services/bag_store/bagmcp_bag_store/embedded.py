@@ -8,8 +8,8 @@ import logging
 from bagmcp_bag_store.errors import STATUSES
 from bagmcp_bag_store.ingest.folder import FolderHashes, catalog_folder
 from bagmcp_bag_store.ingest.rebuild import rebuild_catalog
-from bagmcp_bag_store.job_kinds import INGEST, RUN_JOB
 from bagmcp_bag_store.settings import QueryLimits, UploadSettings
+from bagmcp_bag_store.task_refs import INGEST, RUN_JOB
 from bagmcp_bag_store.wiring import BagStore, build_bag_store
 from bagmcp_kit.parts import ServicePart
 from bagmcp_kit.runtime.resources import Embedded
@@ -37,7 +37,7 @@ def start_embedded(embedded: Embedded, *, queries: QueryLimits | None = None) ->
             work.store.ingestor.mark_failed(bag_id, f"ingest failed ({type(err).__name__}: {err})")
 
     embedded.runner.bind(INGEST, ingest, workers=1)
-    embedded.runner.bind(RUN_JOB, lambda job_id: run_job(work.registry, res.jobs, job_id), workers=2)
+    embedded.runner.bind(RUN_JOB, lambda job_id: run_job(work.registry, res.job_store, job_id), workers=2)
     ids = catalog_folder(res.catalog, embedded.folder)
     made_here = rebuild_catalog(res.catalog, res.store, summaries=False).to_ingest  # the bags filter_bag made
     for bag_id in [*ids, *made_here]:

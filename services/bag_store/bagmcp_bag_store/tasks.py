@@ -7,7 +7,7 @@ from collections.abc import Callable
 from celery import Celery, Task
 
 from bagmcp_bag_store.ingest.ingest import Ingestor
-from bagmcp_bag_store.job_kinds import INGEST
+from bagmcp_bag_store.task_refs import INGEST
 from bagmcp_shared.errors import BagmcpError, StorageError
 
 

@@ -14,8 +14,8 @@ from bagmcp_bag_store.fleet.service import build_fleet
 from bagmcp_bag_store.ingest.ingest import Ingestor
 from bagmcp_bag_store.ingest.shelf import Shelf
 from bagmcp_bag_store.ingest.upload import UploadPolicy
-from bagmcp_bag_store.job_kinds import INGEST
 from bagmcp_bag_store.settings import QueryLimits, UploadSettings
+from bagmcp_bag_store.task_refs import INGEST
 from bagmcp_bag_store.tools import BAG_STORE, build_server
 from bagmcp_bag_store.tools.store import Store
 from bagmcp_kit.longwork import LongWork
@@ -62,7 +62,7 @@ def build_bag_store(
     guard: McpGuard | None = None,
 ) -> BagStore:
     work = build_work(res, queries=queries)
-    longwork = LongWork(res.jobs, res.runner, work.registry, budget_s=res.job_budget_s)
+    longwork = LongWork(res.job_store, res.runner, work.registry, budget_s=res.job_budget_s)
     server = build_server(work.store, longwork, guard=guard)
     policy = UploadPolicy(
         shelf=work.store.shelf,

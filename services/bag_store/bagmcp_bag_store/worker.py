@@ -6,8 +6,8 @@ from __future__ import annotations
 
 import functools
 
-from bagmcp_bag_store.job_kinds import RUN_JOB
 from bagmcp_bag_store.settings import QueryLimits
+from bagmcp_bag_store.task_refs import RUN_JOB
 from bagmcp_bag_store.tasks import register_ingest_task
 from bagmcp_bag_store.wiring import BagStoreWork, build_work
 from bagmcp_kit.runtime.resources import Resources

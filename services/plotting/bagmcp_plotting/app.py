@@ -7,8 +7,8 @@ from fastapi import FastAPI
 from bagmcp_kit.runtime.resources import team_resources
 from bagmcp_kit.server import McpGuard
 from bagmcp_kit.service_app import create_service_app
-from bagmcp_plotting.job_kinds import QUEUE
 from bagmcp_plotting.settings import PlottingSettings
+from bagmcp_plotting.task_refs import QUEUE
 from bagmcp_plotting.wiring import build_plotting
 
 

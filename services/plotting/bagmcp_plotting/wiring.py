@@ -28,6 +28,6 @@ def build_plotting(
 ) -> tuple[MCPServer, APIRouter, JobRegistry]:
     artifacts = Artifacts(res.store, base_url=artifact_base_url)
     registry = build_registry(res.access, artifacts)
-    work = LongWork(res.jobs, res.runner, registry, budget_s=res.job_budget_s)
+    work = LongWork(res.job_store, res.runner, registry, budget_s=res.job_budget_s)
     server = build_server(res.access, work, artifacts, guard=guard)
     return server, build_artifact_router(artifacts), registry

@@ -5,8 +5,8 @@ from __future__ import annotations
 
 from bagmcp_kit.runtime.worker import job_worker
 from bagmcp_plotting.artifacts import Artifacts
-from bagmcp_plotting.job_kinds import RUN_JOB
 from bagmcp_plotting.settings import PlottingSettings
+from bagmcp_plotting.task_refs import RUN_JOB
 from bagmcp_plotting.wiring import build_registry
 
 _base_url = PlottingSettings.from_env().artifact_base_url

@@ -101,6 +101,16 @@ class ReaderCache:
         for reader in closing:
             reader.close()
 
+    def close(self) -> None:
+        """Close every idle reader and forget every entry (the process is stopping); a reader in use closes
+        when it is returned. A reader left to the garbage collector would leave its files open until then,
+        and a directory bag's decompressed copy on disk."""
+        with self._lock:
+            closing = [reader for entry in self._entries.values() for reader in entry.idle]
+            self._entries.clear()
+        for reader in closing:
+            reader.close()
+
     def total_bytes(self) -> int:
         with self._lock:
             return sum(e.bytes() for e in self._entries.values())

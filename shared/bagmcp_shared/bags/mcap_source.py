@@ -93,11 +93,17 @@ class McapSource:
         self._size = size if stream is not None else 0
         self._notes: list[str] = []
         try:
+            self._open(recover_truncated)
+        except BaseException:  # refused (damaged, an encoding not decoded, over budget): the file is not left open
+            self._file.close()
+            raise
+
+    def _open(self, recover_truncated: bool) -> None:
+        try:
             reader = SeekingReader(self._file)
             self.profile = reader.get_header().profile
         except _READ_ERRORS as err:
-            self._file.close()
-            raise DamagedBagError(f"{path}: not a readable MCAP file ({err or type(err).__name__})") from err
+            raise DamagedBagError(f"{self._path}: not a readable MCAP file ({err or type(err).__name__})") from err
         self._summary = self._read_summary(reader)
         self._reader = reader
         if (summary := self._summary) is not None:
@@ -115,11 +121,10 @@ class McapSource:
         self._connections = self._with_inferred_schemas(self._connections)
 
     def _checked(self, work: Callable[[], _T]) -> _T:
-        """``work()``, whose budget refusal is named with the file and closes it."""
+        """``work()``, whose budget refusal is named with the file."""
         try:
             return work()
         except UnsupportedFormatError as err:
-            self._file.close()
             raise UnsupportedFormatError(f"{self._path}: {err}") from err
 
     def _read_summary(self, reader: SeekingReader) -> Summary | None:

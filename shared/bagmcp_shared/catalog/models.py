@@ -7,6 +7,7 @@ from typing import Literal
 from pydantic import BaseModel, Field
 
 from bagmcp_shared.bags import BagSummary
+from bagmcp_shared.carry import carried
 
 BagStatus = Literal["ingesting", "ready", "failed"]
 
@@ -41,25 +42,20 @@ class CatalogSummary(BaseModel):
     def of(cls, summary: BagSummary, *, header_rates: dict[str, float] | None = None) -> CatalogSummary:
         rates = header_rates or {}
         topics = [
-            TopicStats(
-                name=t.name,
+            carried(
+                TopicStats,
+                t,
                 type=t.msgtype,
-                count=t.count,
-                first_ns=t.first_ns,
-                last_ns=t.last_ns,
                 rate_hz=round(t.rate_hz, 4) if t.rate_hz is not None else None,
                 header_rate_hz=rates.get(t.name),
             )
             for t in summary.topics
         ]
-        return cls(
+        return carried(
+            cls,
+            summary,
             format=str(summary.format),
-            profile=summary.profile,
             files=list(summary.files),
-            size_bytes=summary.size_bytes,
-            message_count=summary.message_count,
-            start_ns=summary.start_ns,
-            end_ns=summary.end_ns,
             duration_s=round(summary.duration_s, 9),
             topics=topics,
             notes=list(summary.notes),

@@ -2,7 +2,8 @@
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
 from pathlib import Path
 
 from bagmcp_shared.access import BagAccess, BagFiles
@@ -30,6 +31,11 @@ class WithoutIndex:
         return self._files.parts_of(record)
 
 
-def decoding(access: BagAccess) -> BagAccess:
-    """``access`` over the same catalog and files, never reading an index."""
-    return BagAccess(access.catalog, WithoutIndex(access.files))
+@contextmanager
+def decoding(access: BagAccess) -> Iterator[BagAccess]:
+    """``access`` over the same catalog and files, never reading an index; its own readers closed after."""
+    decoded = BagAccess(access.catalog, WithoutIndex(access.files))
+    try:
+        yield decoded
+    finally:
+        decoded.cache.close()

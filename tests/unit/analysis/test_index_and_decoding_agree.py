@@ -47,7 +47,8 @@ def test_the_index_and_decoding_give_the_same_answer(
     with access.open(bag) as ob:
         assert ob.index is not None
     indexed = question(access, params(bag), Unreported())
-    decoded = question(decoding(access), params(bag), Unreported())
+    with decoding(access) as without_index:
+        decoded = question(without_index, params(bag), Unreported())
     assert _plain(indexed) == _plain(decoded)
     if hasattr(indexed, "source"):
         assert (indexed.source, decoded.source) == ("index", "bag")

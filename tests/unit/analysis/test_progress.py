@@ -3,6 +3,8 @@ go backwards (the progress of a job is what get_job and the MCP progress notific
 
 from __future__ import annotations
 
+from collections.abc import Iterator
+
 import pytest
 
 from bagmcp_analysis.queries.lidar import LidarParams, analyze_lidar
@@ -32,8 +34,9 @@ class Recorded:
 
 
 @pytest.fixture
-def decoded(served_drive: InProcess) -> BagAccess:
-    return decoding(served_drive.composition.embedded.resources.access)
+def decoded(served_drive: InProcess) -> Iterator[BagAccess]:
+    with decoding(served_drive.composition.embedded.resources.access) as access:
+        yield access
 
 
 def test_decoding_the_tf_topics_reports_the_share_of_transforms_read(decoded: BagAccess) -> None:

@@ -81,7 +81,9 @@ def test_a_package_imports_only_what_it_may(package: str) -> None:
 
 def test_the_check_sees_a_crossing(tmp_path: Path) -> None:
     source = tmp_path / "probe.py"
-    source.write_text("import os\nfrom bagmcp_bag_store.tools import x\nimport bagmcp_kit.jobs as j\nfrom . import y\n")
+    source.write_text(
+        "import os\nfrom bagmcp_bag_store.tools import x\nimport bagmcp_kit.job_info as j\nfrom . import y\n"
+    )
     assert imported_packages(source) == {"bagmcp_bag_store", "bagmcp_kit"}
 
 

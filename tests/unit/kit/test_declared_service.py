@@ -120,14 +120,14 @@ def served(tmp_path: Path) -> Iterator[Served]:
     res = embedded.resources
     tally = Tally("apples", threading.Event())
     registry = TALLY.registry(tally)
-    embedded.runner.bind(RUN_JOB, lambda job_id: run_job(registry, res.jobs, job_id))
-    work = LongWork(res.jobs, res.runner, registry, budget_s=res.job_budget_s)
+    embedded.runner.bind(RUN_JOB, lambda job_id: run_job(registry, res.job_store, job_id))
+    work = LongWork(res.job_store, res.runner, registry, budget_s=res.job_budget_s)
     server = new_server("bagmcp-tally", purpose="Counting.", tools=TALLY.specs(tally, work))
     try:
         yield Served(
             embedded,
             tally,
-            [Upstream(name="tally", server=server), Upstream(name="jobs", server=build_jobs_server(res.jobs))],
+            [Upstream(name="tally", server=server), Upstream(name="jobs", server=build_jobs_server(res.job_store))],
         )
     finally:
         embedded.runner.shutdown()
@@ -179,7 +179,7 @@ async def test_small_long_work_runs_inline_and_large_work_as_a_job_of_the_derive
         job = await _finished(client, started["job"]["job_id"])
     assert job["state"] == "succeeded"
     assert job["result"] == {"total": 5000 * 5001 // 2, "unit": "apples"}
-    stored = served.embedded.resources.jobs.get(started["job"]["job_id"])
+    stored = served.embedded.resources.job_store.get(started["job"]["job_id"])
     assert stored is not None
     assert stored.params == {"up_to": 5000}
 

@@ -9,13 +9,15 @@ import time
 import pytest
 from mcp import Client
 from mcp.server.mcpserver import MCPServer
+from mcp.types import CallToolResult
+from pydantic import BaseModel
 
-from bagmcp_kit.arguments import READ_ONLY
+from bagmcp_kit.declared import Declared, short_specs
 from bagmcp_kit.ingest_wait import IngestWait, bag_refs
 from bagmcp_kit.server import new_server
-from bagmcp_kit.toolsets import tool
 from bagmcp_shared.catalog import BagRecord, MemoryCatalog, resolve_bag
 from bagmcp_shared.errors import BagmcpError
+from bagmcp_shared.jobs import Progress
 from tests.fixtures.mcp_client import text_of
 
 pytestmark = pytest.mark.anyio
@@ -31,22 +33,35 @@ def _catalog() -> MemoryCatalog:
     return catalog
 
 
-class StatusTools:
-    def __init__(self, catalog: MemoryCatalog) -> None:
-        self._catalog = catalog
+class BagParams(BaseModel):
+    bag: str
 
-    @tool(READ_ONLY)
-    def status_of(self, bag: str) -> str:
-        """The bag's status as the tool finds it. Example: bag="run1"."""
-        try:
-            return resolve_bag(self._catalog, bag).status
-        except BagmcpError:
-            return "unknown"
+
+class Status(BaseModel):
+    status: str
+
+
+def status_of(catalog: MemoryCatalog, params: BagParams, progress: Progress) -> Status:
+    try:
+        return Status(status=resolve_bag(catalog, params.bag).status)
+    except BagmcpError:
+        return Status(status="unknown")
+
+
+STATUS_OF = Declared[MemoryCatalog, BagParams, Status](
+    "status_of", "The bag's status as the tool finds it.", BagParams, Status, status_of, lambda r: r.status, long=False
+)
 
 
 def _server(catalog: MemoryCatalog, budget_s: float) -> MCPServer:
     """A service as the kit builds it, waiting for ingest as every service does."""
-    return new_server("s", purpose="Test.", tools=[StatusTools(catalog)], ingest=IngestWait(catalog, budget_s))
+    tools = short_specs(catalog, [STATUS_OF])
+    return new_server("s", purpose="Test.", tools=tools, ingest=IngestWait(catalog, budget_s))
+
+
+def _status(answer: CallToolResult) -> str:
+    assert isinstance(answer.structured_content, dict)
+    return str(answer.structured_content["status"])
 
 
 def _ingest_later(catalog: MemoryCatalog, *, steps: int, step_s: float) -> threading.Thread:
@@ -77,7 +92,7 @@ async def test_a_call_waits_for_the_ingest_and_reports_its_progress() -> None:
     async with Client(_server(catalog, budget_s=10), cache=None) as client:
         answer = await client.call_tool("status_of", {"bag": "run1"}, progress_callback=on_progress)
     assert not answer.is_error
-    assert text_of(answer) == "ready"
+    assert _status(answer) == "ready"
     assert seen[0] == pytest.approx(0.1)
     assert len(set(seen)) >= 3  # the ingest's own progress, as it went
 
@@ -96,7 +111,7 @@ async def test_past_the_budget_the_answer_says_how_far_and_when_to_ask_again() -
 async def test_unknown_bags_and_calls_without_a_bag_pass_straight_through() -> None:
     async with Client(_server(_catalog(), budget_s=5), cache=None) as client:
         started = time.monotonic()
-        assert text_of(await client.call_tool("status_of", {"bag": "nope"})) == "unknown"
+        assert _status(await client.call_tool("status_of", {"bag": "nope"})) == "unknown"
         assert time.monotonic() - started < 1.0
 
 

@@ -1,16 +1,21 @@
-"""get_image_at_time: the image nearest a time as a picture (raw encodings and compressed), sized to send."""
+"""get_image_at_time: the image nearest a time as a picture (raw encodings and compressed), sized to send, and
+its params model (the tool is declared in tools/image_tools.py)."""
 
 from __future__ import annotations
 
-from typing import Protocol, cast
+from typing import Annotated, Protocol, cast
 
 import numpy as np
+from pydantic import BaseModel, Field
 
-from bagmcp_analysis.images import Encoded, Picture, compressed_image, encode_picture, raw_image
+from bagmcp_analysis.images import Picture, compressed_image, encode_picture, raw_image
 from bagmcp_analysis.reports.images import ImageReport
+from bagmcp_kit.arguments import BagRef, TimeArg
 from bagmcp_shared.access import BagAccess
+from bagmcp_shared.carry import carried
 from bagmcp_shared.errors import ArgumentError
-from bagmcp_shared.timebase import TimeInput, header_stamp_ns
+from bagmcp_shared.jobs import Progress
+from bagmcp_shared.timebase import header_stamp_ns
 
 RAW = "sensor_msgs/msg/Image"
 COMPRESSED = "sensor_msgs/msg/CompressedImage"
@@ -46,24 +51,32 @@ def _picture(msgtype: str, message: object) -> tuple[Picture, str]:
     return compressed_image(format=compressed.format, data=compressed.data), compressed.format or "compressed"
 
 
-def get_image_at_time(
-    access: BagAccess, bag: str, topic: str, time: TimeInput, *, max_size: int
-) -> tuple[ImageReport, Encoded]:
-    with access.open(bag) as ob:
-        name, msgtype = ob.topic_name(topic), ob.msgtype(topic)
+class ImageParams(BaseModel):
+    bag: BagRef
+    topic: Annotated[str, Field(description="Image or CompressedImage topic")]
+    time: TimeArg
+    max_size: Annotated[int, Field(ge=16, le=4096, description="longest side in pixels")] = 1024
+
+
+def get_image_at_time(access: BagAccess, params: ImageParams, progress: Progress) -> ImageReport:
+    """The report, carrying the encoded picture (``ImageReport.picture``)."""
+    with access.open(params.bag) as ob:
+        name, msgtype = ob.topic_name(params.topic), ob.msgtype(params.topic)
         if msgtype not in (RAW, COMPRESSED):
             raise ArgumentError(f"{name} is {msgtype}; give a sensor_msgs/Image or CompressedImage topic")
-        wanted = ob.time(time)
+        wanted = ob.time(params.time)
         raw = ob.nearest(name, wanted)
         message = ob.reader.decode(raw)
         try:
             picture, encoding = _picture(msgtype, message)
-            encoded = encode_picture(picture, max_size=max_size)
+            encoded = encode_picture(picture, max_size=params.max_size)
         except ValueError as err:
             raise ArgumentError(f"{name} at {ob.instant(raw.log_time_ns).offset_s:.3f} s: {err}") from err
         header = header_stamp_ns(message)
         frame = getattr(getattr(message, "header", None), "frame_id", None)
-        report = ImageReport(
+        report = carried(
+            ImageReport,
+            picture,
             bag=ob.name,
             topic=name,
             type=msgtype,
@@ -72,12 +85,8 @@ def get_image_at_time(
             header_stamp_s=header / 1e9 if header else None,
             frame=str(frame) if frame else None,
             encoding=encoding,
-            width=picture.width,
-            height=picture.height,
             sent_width=encoded.width,
             sent_height=encoded.height,
             mime_type=encoded.mime_type,
-            kind=picture.kind,
-            depth=picture.depth,
         )
-        return report, encoded
+        return report.with_picture(encoded)

@@ -15,6 +15,7 @@ from bagmcp_analysis.reports.lidar import Closest, FirstWithin, LidarReport, Min
 from bagmcp_kit.arguments import BagRef, OptionalTopic, TimeArg
 from bagmcp_shared.access import BagAccess, OpenBag
 from bagmcp_shared.bags.counted import counted
+from bagmcp_shared.carry import carried
 from bagmcp_shared.errors import ArgumentError
 from bagmcp_shared.index import read_series
 from bagmcp_shared.jobs import Progress
@@ -84,7 +85,7 @@ def _one(ob: OpenBag, topic: str, msgtype: str, params: LidarParams) -> LidarRep
         scans=None,
         closest=closest,
         within_m=params.within_m,
-        first_within=FirstWithin(**closest.model_dump(), stays_s=0.0, until_end=False, total_within_s=0.0, episodes=1)
+        first_within=carried(FirstWithin, closest, stays_s=0.0, until_end=False, total_within_s=0.0, episodes=1)
         if near and closest is not None
         else None,
         minimum=None,
@@ -153,17 +154,7 @@ def lidar_window(ob: OpenBag, topic: str, msgtype: str, params: LidarParams, pro
         scans=len(times),
         closest=closest,
         within_m=params.within_m,
-        first_within=FirstWithin(
-            range_m=approach.range_m,
-            bearing_deg=approach.bearing_deg,
-            time=ob.instant(approach.t_ns),
-            stays_s=approach.stays_s,
-            until_end=approach.until_end,
-            total_within_s=approach.total_within_s,
-            episodes=approach.episodes,
-        )
-        if approach is not None
-        else None,
+        first_within=carried(FirstWithin, approach, time=ob.instant(approach.t_ns)) if approach is not None else None,
         minimum=MinimumProfile(offset_s=[round((t - ob.start_ns) / 1e9, 6) for t in profile_t], range_m=profile_r),
         source="index" if source == "index" else "bag",
     )

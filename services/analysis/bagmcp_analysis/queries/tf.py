@@ -11,6 +11,7 @@ from bagmcp_analysis.reports.tf import EdgeOut, TfTreeReport, TransformReport
 from bagmcp_analysis.tf.tree import TfBuffer, TfSample
 from bagmcp_kit.arguments import BagRef, TimeArg
 from bagmcp_shared.access import BagAccess, OpenBag
+from bagmcp_shared.carry import carried
 from bagmcp_shared.errors import ArgumentError
 from bagmcp_shared.index import TransformRows, decode_transforms, tf_connections
 from bagmcp_shared.jobs import Progress, spans
@@ -82,12 +83,9 @@ def get_tf_tree(access: BagAccess, params: TfTreeParams, progress: Progress) -> 
             frames=tree.order,
             roots=tree.roots,
             edges=[
-                EdgeOut(
-                    parent=e.parent,
-                    child=e.child,
-                    static=e.static,
-                    count=e.count,
-                    rate_hz=e.rate_hz,
+                carried(
+                    EdgeOut,
+                    e,
                     first=ob.instant(e.first_ns),
                     last=ob.instant(e.last_ns),
                     nearest=ob.instant(e.nearest_ns) if e.nearest_ns is not None else None,

@@ -11,6 +11,7 @@ from bagmcp_analysis.reports.trajectory import Pose, StopOut, TrajectoryReport, 
 from bagmcp_analysis.trajectory.track import summarize_track
 from bagmcp_kit.arguments import BagRef, OptionalTopic, TimeArg
 from bagmcp_shared.access import BagAccess, OpenBag
+from bagmcp_shared.carry import carried
 from bagmcp_shared.errors import ArgumentError
 from bagmcp_shared.jobs import Progress
 from bagmcp_shared.timebase import Instant
@@ -66,7 +67,9 @@ def analyze_trajectory(access: BagAccess, params: TrajectoryParams, progress: Pr
         def at(index: int) -> Instant:
             return ob.instant(int(poses.log_ns[index]))
 
-        return TrajectoryReport(
+        return carried(
+            TrajectoryReport,
+            summary,
             bag=ob.name,
             topic=topic,
             type=msgtype,
@@ -75,26 +78,13 @@ def analyze_trajectory(access: BagAccess, params: TrajectoryParams, progress: Pr
             clock="header" if poses.clock == "header" else "log_time",
             start=ob.instant(lo),
             end=ob.instant(hi),
-            samples=summary.samples,
-            duration_s=summary.duration_s,
-            distance_2d_m=summary.distance_2d_m,
-            distance_3d_m=summary.distance_3d_m,
-            displacement_2d_m=summary.displacement_2d_m,
-            displacement_3d_m=summary.displacement_3d_m,
-            path_efficiency=summary.path_efficiency,
-            mean_speed_mps=summary.mean_speed_mps,
-            mean_moving_speed_mps=summary.mean_moving_speed_mps,
-            max_speed_mps=summary.max_speed_mps,
             max_speed_at=at(summary.max_speed_index) if summary.max_speed_index is not None else None,
-            moving_s=summary.moving_s,
-            stopped_s=summary.stopped_s,
             stops=[
                 StopOut(start=at(s.start_index), end=at(s.end_index), duration_s=s.duration_s) for s in summary.stops
             ],
-            extents=summary.extents,
             start_pose=_pose(ob, poses, summary.start_index),
             end_pose=_pose(ob, poses, summary.end_index),
-            waypoints=[Waypoint(**_pose(ob, poses, w.index).model_dump(), reason=w.reason) for w in summary.waypoints],
+            waypoints=[carried(Waypoint, _pose(ob, poses, w.index), reason=w.reason) for w in summary.waypoints],
             notes=[*poses.notes, *summary.notes],
         )
 

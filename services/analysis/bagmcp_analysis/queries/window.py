@@ -18,6 +18,7 @@ from bagmcp_analysis.reports.window import FlightMode, Motion, TopicActivity, Wi
 from bagmcp_analysis.trajectory.track import summarize_track
 from bagmcp_kit.arguments import BagRef, TimeArg
 from bagmcp_shared.access import BagAccess, OpenBag
+from bagmcp_shared.carry import carried
 from bagmcp_shared.errors import BagmcpError
 from bagmcp_shared.flight_modes import mode_changes, mode_topic, modes_in_window
 from bagmcp_shared.jobs import Progress, spans
@@ -70,15 +71,8 @@ def _motion(ob: OpenBag, lo: int, hi: int, progress: Progress) -> Motion | None:
         StopOut(start=ob.instant(at(s.start_index)), end=ob.instant(at(s.end_index)), duration_s=s.duration_s)
         for s in summary.stops
     ]
-    return Motion(
-        topic=topic,
-        distance_m=summary.distance_2d_m,
-        mean_speed_mps=summary.mean_speed_mps,
-        max_speed_mps=summary.max_speed_mps,
-        moving_s=summary.moving_s,
-        stopped_s=summary.stopped_s,
-        stops=stops[:MAX_STOPS],
-        stop_count=len(stops),
+    return carried(
+        Motion, summary, topic=topic, distance_m=summary.distance_2d_m, stops=stops[:MAX_STOPS], stop_count=len(stops)
     )
 
 

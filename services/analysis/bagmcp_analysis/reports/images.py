@@ -1,10 +1,10 @@
-"""What get_image_at_time answers next to the picture itself."""
+"""What get_image_at_time answers next to the picture itself (which the report carries outside its JSON)."""
 
 from __future__ import annotations
 
-from pydantic import BaseModel, Field
+from pydantic import BaseModel, Field, PrivateAttr
 
-from bagmcp_analysis.images import DepthRange
+from bagmcp_analysis.images import DepthRange, Encoded
 from bagmcp_shared.timebase import Instant
 
 
@@ -24,3 +24,14 @@ class ImageReport(BaseModel):
     mime_type: str
     kind: str = Field(description="color, mono or depth")
     depth: DepthRange | None = Field(description="range of valid depth values (depth images)")
+    _picture: Encoded | None = PrivateAttr(default=None)
+
+    @property
+    def picture(self) -> Encoded | None:
+        """The encoded image, shown as image content beside the report (None once it went through JSON)."""
+        return self._picture
+
+    def with_picture(self, picture: Encoded) -> ImageReport:
+        shown = self.model_copy()
+        shown._picture = picture
+        return shown

@@ -10,6 +10,7 @@ import numpy as np
 
 from bagmcp_analysis.tf.edges import EdgeSeries, nearest_ns, parents_at, rate_hz
 from bagmcp_analysis.tf.lookup import Lookup, lookup_transform
+from bagmcp_shared.carry import carried
 from bagmcp_shared.index.transforms import is_finite_sample, normalize_frame
 
 __all__ = ["Edge", "Lookup", "TfBuffer", "TfSample", "TfTree", "normalize_frame"]
@@ -112,16 +113,7 @@ class TfBuffer:
         order = _depth_order(self._frames, parents)
         rank = {frame: i for i, frame in enumerate(order)}
         edges = [
-            Edge(
-                parent=s.parent,
-                child=s.child,
-                static=s.static,
-                count=s.count,
-                rate_hz=rate_hz(s),
-                first_ns=s.first_ns,
-                last_ns=s.last_ns,
-                nearest_ns=None if t_ns is None else nearest_ns(s, t_ns),
-            )
+            carried(Edge, s, rate_hz=rate_hz(s), nearest_ns=None if t_ns is None else nearest_ns(s, t_ns))
             for s in sorted(self._edges.values(), key=lambda s: (rank[s.child], s.parent))
         ]
         return TfTree(

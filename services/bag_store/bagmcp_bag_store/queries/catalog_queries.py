@@ -1,10 +1,17 @@
-"""The logic behind list_bags, bag_info and describe_topic (catalog and type questions)."""
+"""The logic behind list_bags, bag_info and describe_topic (catalog and type questions), and their params
+models (the tools are declared in tools/catalog_tools.py)."""
 
 from __future__ import annotations
 
+from typing import Annotated
+
+from pydantic import BaseModel, Field
+
 from bagmcp_bag_store.queries.messages import message_out
 from bagmcp_bag_store.reports import BagBrief, BagInfo, BagList, FieldInfo, TopicDescription, TopicInfo
+from bagmcp_kit.arguments import BagRef, Offset, TopicName
 from bagmcp_shared.access import BagAccess
+from bagmcp_shared.carry import carried
 from bagmcp_shared.catalog import BagRecord, Catalog, TopicStats, ready_record
 from bagmcp_shared.errors import ArgumentError
 from bagmcp_shared.paths import field_paths
@@ -12,6 +19,22 @@ from bagmcp_shared.timebase import Instant
 from bagmcp_shared.units import unit_of
 
 MAX_FIELDS = 120
+
+
+class ListBagsParams(BaseModel):
+    name: Annotated[str | None, Field(description="part of the name")] = None
+    tag: Annotated[str | None, Field(description="with this tag")] = None
+    offset: Offset = 0
+    limit: Annotated[int, Field(ge=1, le=500, description="page size")] = 50
+
+
+class BagParams(BaseModel):
+    bag: BagRef
+
+
+class TopicParams(BaseModel):
+    bag: BagRef
+    topic: TopicName
 
 
 def _instant(stamp_ns: int | None, start_ns: int) -> Instant | None:
@@ -37,9 +60,9 @@ def _brief(record: BagRecord) -> BagBrief:
     )
 
 
-def list_bags(
-    catalog: Catalog, *, name: str | None = None, tag: str | None = None, offset: int = 0, limit: int = 50
-) -> BagList:
+def list_bags(catalog: Catalog, params: ListBagsParams) -> BagList:
+    """``params`` may come unvalidated (the REST route builds it as asked), hence the bounds check."""
+    name, tag, offset, limit = params.name, params.tag, params.offset, params.limit
     if offset < 0 or not 1 <= limit <= 500:
         raise ArgumentError("offset must be >= 0 and limit between 1 and 500")
     records = [r for r in catalog.all() if (not name or name.lower() in r.name.lower()) and (not tag or tag in r.tags)]
@@ -66,42 +89,28 @@ def topic_note(topic: TopicStats) -> str | None:
 
 
 def _topic_info(topic: TopicStats, start_ns: int) -> TopicInfo:
-    return TopicInfo(
-        note=topic_note(topic),
-        name=topic.name,
-        type=topic.type,
-        count=topic.count,
-        rate_hz=topic.rate_hz,
-        header_rate_hz=topic.header_rate_hz,
-        first=_instant(topic.first_ns, start_ns),
-        last=_instant(topic.last_ns, start_ns),
-    )
+    first, last = _instant(topic.first_ns, start_ns), _instant(topic.last_ns, start_ns)
+    return carried(TopicInfo, topic, note=topic_note(topic), first=first, last=last)
 
 
-def bag_info(catalog: Catalog, bag: str) -> BagInfo:
-    record = ready_record(catalog, bag)
+def bag_info(catalog: Catalog, params: BagParams) -> BagInfo:
+    record = ready_record(catalog, params.bag)
     summary = record.summary
     assert summary is not None  # a ready bag has its summary
     start_ns = summary.start_ns or 0
-    return BagInfo(
-        id=record.id,
-        name=record.name,
-        status=record.status,
-        format=summary.format,
-        size_bytes=record.size_bytes,
-        sha256=record.sha256,
-        message_count=summary.message_count,
-        duration_s=summary.duration_s,
+    return carried(
+        BagInfo,
+        record,
+        summary,
         start=_instant(summary.start_ns, start_ns),
         end=_instant(summary.end_ns, start_ns),
         topics=[_topic_info(t, start_ns) for t in summary.topics],
-        notes=summary.notes,
     )
 
 
-def describe_topic(access: BagAccess, bag: str, topic: str, *, budget_bytes: int) -> TopicDescription:
-    with access.open(bag, need_messages=False) as ob:
-        conn = ob.reader.topic_connections(topic)[0]
+def describe_topic(access: BagAccess, params: TopicParams, *, budget_bytes: int) -> TopicDescription:
+    with access.open(params.bag, need_messages=False) as ob:
+        conn = ob.reader.topic_connections(params.topic)[0]
         store = ob.reader.decoder.typestore(conn.msgtype)
         paths = field_paths(store, conn.msgtype)
         stated = ob.reader.decoder.units(conn.msgtype)

@@ -10,14 +10,14 @@ import math
 import numpy as np
 import numpy.typing as npt
 
-from bagmcp_bag_store.queries.messages import time_base
+from bagmcp_bag_store.queries.messages import MessageRangeParams, time_base
 from bagmcp_bag_store.reports import MessageRange
 from bagmcp_shared.access import BagAccess
 from bagmcp_shared.errors import ArgumentError
 from bagmcp_shared.index import read_series
 from bagmcp_shared.paths import check_steps, format_steps, parse_field_path
-from bagmcp_shared.timebase import TimeInput
 
+DEFAULT_POINTS = 1000  # when layout=columns comes without max_points
 SIGNIFICANT = 5  # significant digits kept of each value (the answer says so)
 
 
@@ -70,35 +70,25 @@ def _size(t: list[float | int], columns: dict[str, list[float | int | None]]) ->
     return len(json.dumps({"t": t, "columns": columns}, separators=(",", ":")))
 
 
-def messages_as_columns(
-    access: BagAccess,
-    bag: str,
-    topic: str,
-    start: TimeInput | None,
-    end: TimeInput | None,
-    fields: list[str],
-    *,
-    every: int,
-    max_points: int,
-    budget_bytes: int,
-    asked_messages: bool = False,
-) -> MessageRange:
-    """``asked_messages``: the caller passed max_points with layout=messages, which only columns can honour,
-    so the answer comes in columns and says so (or the error says how to thin whole messages instead)."""
+def messages_as_columns(access: BagAccess, params: MessageRangeParams, *, budget_bytes: int) -> MessageRange:
+    """Max_points with layout=messages (``asked_messages``) only columns can honour, so the answer comes in
+    columns and says so (or the error says how to thin whole messages instead)."""
+    fields, every = params.fields or [], params.every
+    max_points, asked_messages = params.max_points or DEFAULT_POINTS, params.layout == "messages"
     why = "max_points (it thins numeric fields, in layout=columns)" if asked_messages else "layout=columns"
     if not fields:
         raise ArgumentError(
             f"{why} needs `fields`: the numeric message paths to return, e.g. ['twist.twist.linear.x']"
             + ("; to thin whole messages, pass every=N instead" if asked_messages else "")
         )
-    with access.open(bag) as ob:
-        name = ob.topic_name(topic)
+    with access.open(params.bag) as ob:
+        name = ob.topic_name(params.topic)
         msgtype = ob.msgtype(name)
         store = ob.reader.decoder.typestore(msgtype)
         paths = [format_steps(parse_field_path(f)) for f in fields]
         for path in paths:
             check_steps(store, msgtype, parse_field_path(path))
-        lo, hi = ob.window(start, end)
+        lo, hi = ob.window(params.start, params.end)
         series = read_series(ob.reader, name, paths, index=ob.index, start_ns=lo, stop_ns=hi + 1)
         try:
             arrays = [series.columns[p].astype(np.float64)[::every] for p in paths]

@@ -1,21 +1,50 @@
-"""The logic behind get_message_at_time and get_messages_in_range, with bounded output."""
+"""The logic behind get_message_at_time and get_messages_in_range, with bounded output, and their params
+models (the tools are declared in tools/message_tools.py; layout=columns is column_range.py)."""
 
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Annotated, Literal
 
 import numpy as np
-from pydantic import JsonValue
+from pydantic import BaseModel, Field, JsonValue
 
 from bagmcp_bag_store.queries.page_cursor import Cursor, CursorSigner, PageScope
 from bagmcp_bag_store.reports import MessageAtTime, MessageOut, MessageRange, RangeMessage
+from bagmcp_kit.arguments import BagRef, Fields, TimeArg, TopicName
 from bagmcp_shared.access import BagAccess, OpenBag
 from bagmcp_shared.bags import RawMessage
-from bagmcp_shared.errors import ArgumentError
 from bagmcp_shared.index import ColumnIndex
 from bagmcp_shared.jsonify import fit
 from bagmcp_shared.paths import Step, check_steps, extract, format_steps, parse_field_path
-from bagmcp_shared.timebase import TimeInput, header_stamp_ns, iso_from_ns
+from bagmcp_shared.timebase import header_stamp_ns, iso_from_ns
+
+
+class MessageAtTimeParams(BaseModel):
+    bag: BagRef
+    topic: TopicName
+    time: TimeArg
+    fields: Fields = None
+
+
+class MessageRangeParams(BaseModel):
+    bag: BagRef
+    topic: TopicName
+    start: TimeArg | None = None
+    end: TimeArg | None = None
+    fields: Fields = None
+    max_messages: Annotated[int, Field(ge=1, le=1000, description="page size")] = 20
+    cursor: Annotated[str | None, Field(description="next_cursor of the previous page")] = None
+    every: Annotated[int, Field(ge=1, description="keep every n-th message")] = 1
+    layout: Literal["messages", "columns"] = "messages"
+    max_points: Annotated[
+        int | None, Field(ge=2, le=5000, description="thin numeric fields to this, extremes kept (columns)")
+    ] = None
+
+    @property
+    def in_columns(self) -> bool:
+        """max_points thins numeric fields, which only columns can do, so it implies them."""
+        return self.layout == "columns" or self.max_points is not None
 
 
 def message_out(bag: OpenBag, raw: RawMessage, projection: list[tuple[Step, ...]], budget: int) -> MessageOut:
@@ -48,13 +77,11 @@ def projection(bag: OpenBag, topic: str, fields: list[str] | None) -> list[tuple
     return steps
 
 
-def get_message_at_time(
-    access: BagAccess, bag: str, topic: str, time: TimeInput, fields: list[str] | None = None, *, budget_bytes: int
-) -> MessageAtTime:
-    with access.open(bag) as ob:
-        steps = projection(ob, topic, fields)
-        stamp_ns = ob.time(time)
-        raw = ob.nearest(topic, stamp_ns)
+def get_message_at_time(access: BagAccess, params: MessageAtTimeParams, *, budget_bytes: int) -> MessageAtTime:
+    with access.open(params.bag) as ob:
+        steps = projection(ob, params.topic, params.fields)
+        stamp_ns = ob.time(params.time)
+        raw = ob.nearest(params.topic, stamp_ns)
         return MessageAtTime(
             bag=ob.record.name,
             topic=raw.connection.topic,
@@ -111,29 +138,17 @@ def _page(
 
 
 def get_messages_in_range(
-    access: BagAccess,
-    bag: str,
-    topic: str,
-    start: TimeInput | None = None,
-    end: TimeInput | None = None,
-    fields: list[str] | None = None,
-    max_messages: int = 20,
-    cursor: str | None = None,
-    *,
-    every: int = 1,
-    budget_bytes: int,
-    signer: CursorSigner,
+    access: BagAccess, params: MessageRangeParams, *, budget_bytes: int, signer: CursorSigner
 ) -> MessageRange:
-    if not 1 <= max_messages <= 1000:
-        raise ArgumentError("max_messages must be between 1 and 1000")
-    with access.open(bag) as ob:
-        name = ob.topic_name(topic)
-        steps = projection(ob, name, fields)
-        lo, hi = ob.window(start, end)
+    every = params.every
+    with access.open(params.bag) as ob:
+        name = ob.topic_name(params.topic)
+        steps = projection(ob, name, params.fields)
+        lo, hi = ob.window(params.start, params.end)
         scope = PageScope(ob.record.id, name, lo, hi, every)
-        resume = signer.parse(cursor, scope)
+        resume = signer.parse(params.cursor, scope)
         first = resume or Cursor(lo, 0, _count(ob, ob.index, name, lo, hi))
-        out, following = _page(ob, name, steps, first, hi, _Limits(max_messages, budget_bytes, every))
+        out, following = _page(ob, name, steps, first, hi, _Limits(params.max_messages, budget_bytes, every))
         return MessageRange(
             bag=ob.record.name,
             topic=name,

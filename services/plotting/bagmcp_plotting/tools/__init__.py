@@ -10,7 +10,7 @@ from bagmcp_kit.ingest_wait import IngestWait
 from bagmcp_kit.longwork import LongWork
 from bagmcp_kit.server import McpGuard, new_server
 from bagmcp_plotting.artifacts import ARTIFACT_URI, Artifacts
-from bagmcp_plotting.job_kinds import RUN_JOB
+from bagmcp_plotting.task_refs import RUN_JOB
 from bagmcp_plotting.tools.plot_tools import (
     COMPARE_RUNS,
     PLOT_2D,
