@@ -56,6 +56,7 @@ def _parser() -> argparse.ArgumentParser:
     parser.add_argument("--formats", default=",".join(BAG_KINDS), help="bag formats measured")
     parser.add_argument("--cold-passes", default="cold,delayed,quarter", help="of cold, delayed, quarter")
     parser.add_argument("--cold-calls", default="", help="cold passes: only calls whose label holds one of these")
+    parser.add_argument("--cold-profile", action="store_true", help="cold passes: py-spy during each first call")
     parser.add_argument("--no-profile", action="store_true", help="skip py-spy (default: profile unless quick)")
     parser.add_argument("--dir", type=Path, default=Path(".bench"), help="where bags are cached and runs work")
     parser.add_argument("--out", type=Path, default=None, help="default BENCHMARKS.md (quick: in --dir)")

@@ -15,19 +15,24 @@ from __future__ import annotations
 import json
 import time
 import traceback
+from collections.abc import Iterator
+from contextlib import ExitStack, contextmanager
 from dataclasses import dataclass, field
+from pathlib import Path
 from typing import Any
 
 import anyio
 
-from bench.calls import CALLS, BenchCall
+from bench.calls import CALLS, BenchCall, service_of
 from bench.client import Endpoint, call, timed_call
 from bench.delay_proxy import DelayProxy, ProxyCounts
+from bench.profile import Profile, recording, summarize
 from bench.restarts import FreshServices, disk_peaks
 from bench.stats import Timing
 from tests.fixtures.mcp_client import http_client
 
 RECONNECT_TIMEOUT_S = 60.0
+COLD_MIN_SAMPLES = 5  # a first call is short and mostly waits for S3 (idle, left out)
 # first repetition numbers: other times than the warm rows' (plots end 0.01 s earlier per repetition, so a
 # 5 s bag takes up to about 490)
 COLD_REP, DELAYED_REP = 20, 40
@@ -54,6 +59,7 @@ class ColdPass:
     bags: dict[str, list[ColdResult]] = field(default_factory=dict)  # by bag kind
     peaks: dict[str, tuple[int, int]] = field(default_factory=dict)  # process -> (blocks, other) bytes
     error: str | None = None
+    profiles: list[Profile] = field(default_factory=list)  # with --cold-profile
 
 
 @dataclass(frozen=True)
@@ -67,6 +73,7 @@ class ColdSetup:
     bags: dict[str, tuple[str, float]]
     warmups: dict[str, tuple[str, float]]
     calls: tuple[BenchCall, ...] = CALLS
+    profile_dir: Path | None = None  # py-spy on the tool's service and worker during each cold call
 
 
 Answers = dict[tuple[str, str], list[str]]  # (kind, label) -> comparable answers, cold first
@@ -112,8 +119,34 @@ def _arguments(bench_call: BenchCall, bag: str, duration_s: float, rep: int, *, 
     return arguments
 
 
+@contextmanager
+def _profiled(setup: ColdSetup, label: str, tool: str, profiles: list[Profile], *, on: bool) -> Iterator[None]:
+    """py-spy on the service that answers the call and its worker while the block runs (when asked)."""
+    if not on or setup.profile_dir is None:
+        yield
+        return
+    service = service_of(tool)
+    slug = "".join(c if c.isalnum() else "-" for c in label)[:80]
+    names = (service, f"{service} worker")
+    outputs = {name: setup.profile_dir / f"cold-{slug}-{name.replace(' ', '-')}.txt" for name in names}
+    with ExitStack() as exits:
+        for name, out in outputs.items():
+            exits.enter_context(recording(setup.fresh.pid(name), out))
+        yield
+    summaries = [summarize(out, label=label, process=name) for name, out in outputs.items()]
+    profiles.extend(p for p in summaries if p.samples >= COLD_MIN_SAMPLES)
+
+
 async def _measure(
-    setup: ColdSetup, kind: str, bench_call: BenchCall, *, rep: int, repeats: int, suffix: str, answers: Answers
+    setup: ColdSetup,
+    kind: str,
+    bench_call: BenchCall,
+    *,
+    rep: int,
+    repeats: int,
+    suffix: str,
+    answers: Answers,
+    profiles: list[Profile],
 ) -> ColdResult:
     """The cold call (the first on this bag in these processes), then ``repeats`` warm ones; their bytes."""
     result = ColdResult(bench_call)
@@ -123,7 +156,9 @@ async def _measure(
         for number in range(repeats + 1):
             arguments = _arguments(bench_call, name, duration_s, rep + number, suffix=suffix)
             fetched, s3 = await anyio.to_thread.run_sync(setup.fresh.fetched_bytes), setup.proxy.counts()
-            content = await timed_call(client, bench_call.tool, arguments, result.warm if number else result.cold)
+            label = f"stack {suffix[1:]} {kind}: {bench_call.label} (first call)"
+            with _profiled(setup, label, bench_call.tool, profiles, on=not number):
+                content = await timed_call(client, bench_call.tool, arguments, result.warm if number else result.cold)
             fetched = await anyio.to_thread.run_sync(setup.fresh.fetched_bytes) - fetched
             s3 = setup.proxy.counts() - s3
             if number:
@@ -150,7 +185,14 @@ async def per_tool_pass(
                 await _warm_process(setup, kind, bench_call)
                 print(f"[bench] stack {key}: {kind} {bench_call.label} ({time.monotonic() - began:.1f} s to restart)")
                 measured = await _measure(
-                    setup, kind, bench_call, rep=rep, repeats=repeats, suffix=f"-{key}", answers=answers
+                    setup,
+                    kind,
+                    bench_call,
+                    rep=rep,
+                    repeats=repeats,
+                    suffix=f"-{key}",
+                    answers=answers,
+                    profiles=found.profiles,
                 )
                 found.bags[kind].append(measured)
     except Exception as err:  # the rows measured so far are still shown, with the error
@@ -176,7 +218,14 @@ async def quarter_pass(
                     print(f"[bench] stack quarter cache: {kind} {bench_call.label}", flush=True)
                     await _warm_process(setup, kind, bench_call)
                     measured = await _measure(
-                        setup, kind, bench_call, rep=COLD_REP, repeats=repeats, suffix="-quarter", answers=reference
+                        setup,
+                        kind,
+                        bench_call,
+                        rep=COLD_REP,
+                        repeats=repeats,
+                        suffix="-quarter",
+                        answers=reference,
+                        profiles=found.profiles,
                     )
                     pair = (kind, bench_call.label)
                     measured.differs = _difference(answers.get(pair, []), reference[pair])

@@ -36,6 +36,7 @@ class ColdPlan:
     only: tuple[str, ...] = ()  # calls whose label holds one of these (all when empty)
     watch: LoadWatch | None = None  # told each pass as its phase
     on_pass: Callable[[list[ColdPass]], None] | None = None  # the passes so far, after each one (saved)
+    profile: bool = False  # py-spy on the answering service and worker during each first call
 
 
 def quarter_env(bags: list[BenchBag]) -> tuple[int, dict[str, str]]:
@@ -80,7 +81,10 @@ async def measure_cold(served: Served, bags: list[BenchBag], warmups: list[Bench
     try:
         with delay_proxy(running.s3.endpoint) as proxy:
             calls = tuple(c for c in CALLS if not plan.only or any(part in c.label for part in plan.only))
-            setup = ColdSetup(served.endpoint, fresh, proxy, setup_bags, warm, calls)
+            profiles = plan.work / "cold-profiles" if plan.profile else None
+            if profiles is not None:
+                profiles.mkdir(exist_ok=True)
+            setup = ColdSetup(served.endpoint, fresh, proxy, setup_bags, warm, calls, profiles)
             _phase(plan, "stack cold")
             if "cold" in plan.passes or "quarter" in plan.passes:  # the quarter pass checks against its answers
                 cold = per_tool_pass(setup, "cold", delay_ms=0.0, repeats=plan.repeats, rep=COLD_REP, answers=answers)

@@ -257,7 +257,7 @@ def render(run: RunResult, *, notes: str) -> str:
     for mode in run.modes:
         lines += list(_mode_section(run, mode))
     lines += list(cold_sections(run))
-    profiles = [p for m in run.modes for p in m.profiles]
+    profiles = [p for m in run.modes for p in m.profiles] + [p for c in run.cold for p in c.profiles]
     if profiles:
         lines += ["## Profiles", "", "py-spy on the serving process while the work ran (idle threads left out).", ""]
         for profile in profiles:

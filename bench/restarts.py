@@ -55,6 +55,10 @@ class FreshServices:
         self._current = started
         wait_until(self._all_up, timeout_s=START_TIMEOUT_S, what="the restarted services and workers")
 
+    def pid(self, name: str) -> int:
+        """The process id of a current service or worker (``bag-store``, ``bag-store worker``, ...)."""
+        return self._current[name].pid
+
     def close(self) -> None:
         self._kill()
 

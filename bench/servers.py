@@ -32,6 +32,7 @@ class Served:
     processes: dict[str, subprocess.Popen[bytes]]
     direct: Endpoint | None = None
     running: Stack | None = None  # the stack's processes (for the cold passes' restarts)
+    serves: int = 0  # bags it lists once ready (0: the measured ones; embedded serves the whole folder)
 
 
 async def wait_ready(endpoint: Endpoint, count: int, *, timeout_s: float = INGEST_TIMEOUT_S) -> None:
@@ -57,7 +58,8 @@ def embedded(folder: Path, work: Path) -> Iterator[Served]:
     command = [str(BIN / "bagmcp"), "serve", "--bags", str(folder), "--port", str(port), "--data", str(work / "data")]
     env = {"BAGMCP_JOB_BUDGET_S": JOB_BUDGET_S}
     with service("bagmcp-serve", command, env=env, log_dir=work, ready=http_ok(f"{url}/healthz")) as proc:
-        yield Served("embedded", Endpoint(f"{url}/mcp", None), {"bagmcp serve": proc})
+        count = sum(not p.name.startswith(".") for p in folder.iterdir())
+        yield Served("embedded", Endpoint(f"{url}/mcp", None), {"bagmcp serve": proc}, serves=count)
 
 
 @contextmanager
