@@ -49,6 +49,7 @@ class ColdResult:
     warm_fetched: int = 0  # over all warm calls
     warm_s3: ProxyCounts = field(default_factory=ProxyCounts)
     differs: str | None = None  # quarter pass: None when every answer equals the cold pass's
+    cold_lines: list[str] = field(default_factory=list)  # the cold call's S3 requests (method, path, Range)
 
 
 @dataclass
@@ -166,6 +167,7 @@ async def _measure(
                 result.warm_s3 = result.warm_s3 + s3
             else:
                 result.cold_fetched, result.cold_s3 = fetched, s3
+                result.cold_lines = list(setup.proxy.recent)[-s3.requests :] if s3.requests else []
             found.append(comparable(content, arguments))
     return result
 

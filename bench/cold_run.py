@@ -17,7 +17,7 @@ from bench.cold import COLD_REP, DELAYED_REP, Answers, ColdPass, ColdSetup, per_
 from bench.delay_proxy import delay_proxy
 from bench.machine import LoadWatch
 from bench.restarts import FreshServices
-from bench.servers import Served, wait_ready
+from bench.servers import INGEST_TIMEOUT_S, Served
 from tests.fixtures.mcp_client import http_client
 
 S3_DELAY_MS = 20.0
@@ -58,11 +58,20 @@ def _done(plan: ColdPlan, found: list[ColdPass]) -> None:
         plan.on_pass(list(found))
 
 
-async def _by_name(endpoint: Endpoint) -> dict[str, tuple[str, float]]:
-    """Name -> (name, duration s) of every ready bag."""
+async def _ready(endpoint: Endpoint, names: list[str]) -> dict[str, tuple[str, float]]:
+    """Name -> (name, duration s) of every ready bag, once all of ``names`` are ready (the stack lists
+    filter_bag's outputs too, so a count would not do)."""
     async with http_client(endpoint.url, endpoint.token) as client:
-        listed = await call(client, "list_bags", {"limit": 500})
-    return {b["name"]: (b["name"], float(b["duration_s"])) for b in listed["bags"] if b["status"] == "ready"}
+        with anyio.fail_after(INGEST_TIMEOUT_S):
+            while True:
+                bags = (await call(client, "list_bags", {"limit": 500}))["bags"]
+                failed = [f"{b['name']}: {b['error']}" for b in bags if b["name"] in names and b["status"] == "failed"]
+                if failed:
+                    raise RuntimeError(f"ingest failed: {'; '.join(failed)}")
+                ready = {b["name"]: (b["name"], float(b["duration_s"])) for b in bags if b["status"] == "ready"}
+                if all(name in ready for name in names):
+                    return ready
+                await anyio.sleep(0.3)
 
 
 async def measure_cold(served: Served, bags: list[BenchBag], warmups: list[BenchBag], plan: ColdPlan) -> list[ColdPass]:
@@ -71,8 +80,7 @@ async def measure_cold(served: Served, bags: list[BenchBag], warmups: list[Bench
         raise RuntimeError("the cold passes need the local stack")
     for bag in warmups:
         await anyio.to_thread.run_sync(partial(running.upload_ok, bag.path, name=WARMUP + bag.name))
-    await wait_ready(served.endpoint, len(bags) + len(warmups))
-    listed = await _by_name(served.endpoint)
+    listed = await _ready(served.endpoint, [b.name for b in bags] + [WARMUP + b.name for b in warmups])
     setup_bags: dict[str, tuple[str, float]] = {b.kind: listed[b.name] for b in bags}
     warm: dict[str, tuple[str, float]] = {b.kind: listed[WARMUP + b.name] for b in warmups}
     fresh = FreshServices(running, plan.work)

@@ -11,13 +11,26 @@ answers pass at once. One delay per HTTP request on a kept-alive connection, non
 from __future__ import annotations
 
 import asyncio
+import re
 import threading
+from collections import deque
 from collections.abc import Iterator
 from contextlib import contextmanager, suppress
 from dataclasses import dataclass
 
 CHUNK = 256 * 1024
+RECENT = 1000
+_RANGE = re.compile(rb"\r\nrange: *([^\r]*)", re.IGNORECASE)
 ANSWER_AFTER_EOF_S = 60.0
+
+
+def request_line(head: bytes) -> str:
+    """``METHOD /path [bytes=a-b]`` of a request's first bytes (its query string left out)."""
+    first = head.split(b"\r\n", 1)[0].decode("latin-1")
+    method, _, rest = first.partition(" ")
+    path = rest.split(" ", 1)[0].split("?", 1)[0]
+    found = _RANGE.search(head)
+    return f"{method} {path}" + (f" {found.group(1).decode('latin-1')}" if found else "")
 
 
 @dataclass(frozen=True)
@@ -53,6 +66,7 @@ class DelayProxy:
         self.delay_s = delay_s
         self.port = 0
         self._counts = [0, 0, 0]  # requests, sent, answered: added on the proxy's loop only
+        self.recent: deque[str] = deque(maxlen=RECENT)  # the latest requests: method, path and Range
         self._loop = asyncio.new_event_loop()
         self._started = threading.Event()
         self._stopping = asyncio.Event()  # bound to the proxy's loop on first use (Python 3.10+)
@@ -126,6 +140,7 @@ class DelayProxy:
             if turn[0]:
                 turn[0] = False
                 self._counts[0] += 1
+                self.recent.append(request_line(data))
                 if self.delay_s > 0:
                     await asyncio.sleep(self.delay_s)
             self._counts[1] += len(data)

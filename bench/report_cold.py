@@ -14,6 +14,7 @@ POINT = "get_message_at_time /odom"
 COLD_FLOORS = {POINT: 1.0, "analyze_trajectory": 1.5, "plot_timeseries 2 odometry paths": 1.5, "get_image_at_time": 1.5}
 DELAYED_POINT_MS = 300.0
 POINT_SHARE = 0.01  # of the bag's bytes
+MAX_LINES = 40
 
 
 def _pass(run: RunResult, key: str) -> ColdPass | None:
@@ -158,6 +159,27 @@ def _pass_section(run: RunResult, found: ColdPass) -> Iterator[str]:
                 ]
             )
         yield from table(header, rows)
+        yield from _requests(run, kind, _result(found, kind, POINT))
+
+
+def _requests(run: RunResult, kind: str, point: ColdResult | None) -> Iterator[str]:
+    """What the cold point read asked of S3, in order (paths without the bucket, ids shortened)."""
+    if point is None or not point.cold_lines:
+        return
+    shown = [_short(line) for line in point.cold_lines[:MAX_LINES]]
+    more = f" and {len(point.cold_lines) - MAX_LINES} more" if len(point.cold_lines) > MAX_LINES else ""
+    yield f"The cold {POINT}'s {point.cold_s3.requests} requests to S3, in order{more}: " + "; ".join(
+        f"`{line}`" for line in shown
+    )
+    yield ""
+
+
+def _short(line: str) -> str:
+    method, _, rest = line.partition(" ")
+    path, _, ranged = rest.partition(" ")
+    parts = path.strip("/").split("/")[1:]  # the bucket left out
+    parts = [p[:8] + "…" if len(p) > 20 else p for p in parts]
+    return " ".join(x for x in (method, "/".join(parts), ranged) if x)
 
 
 def _quarter_section(run: RunResult, found: ColdPass) -> Iterator[str]:

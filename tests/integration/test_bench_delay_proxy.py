@@ -54,6 +54,10 @@ def test_bytes_pass_intact_both_ways_and_are_counted(proxied: tuple[DelayProxy, 
     assert ranged == BODY[2**20 + 5 : 2**20 + 5 + 70_000]
     assert len(BODY) + 70_000 < counted.answered_bytes < len(BODY) + 70_000 + 8_000  # bodies and headers
     assert counted.requests == 2
+    assert list(proxy.recent)[-2:] == [
+        f"GET /{_bucket(proxy)}/body",
+        f"GET /{_bucket(proxy)}/body bytes={2**20 + 5}-{2**20 + 5 + 70_000 - 1}",
+    ]
     assert 0 < counted.sent_bytes < 4_000  # two signed GETs
 
 
