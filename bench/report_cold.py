@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 
-from bench.cold import ColdPass, ColdResult
+from bench.cold import NOT_COMPARED, ColdPass, ColdResult
 from bench.report_parts import FLOOR_LABELS, ms, table, yes
 from bench.results import RunResult
 from bench.stats import Timing
@@ -75,7 +75,7 @@ def target_rows(run: RunResult) -> list[list[str]]:
 
 
 def _quarter_row(quarter: ColdPass, kind: str) -> list[str]:
-    results = quarter.bags[kind]
+    results = [r for r in quarter.bags[kind] if r.call.tool not in NOT_COMPARED]
     differ = [r.call.label for r in results if r.differs]
     bound = quarter.block_cache_bytes or 0
     peak = max((blocks for blocks, _ in quarter.peaks.values()), default=0)
@@ -182,6 +182,12 @@ def _short(line: str) -> str:
     return " ".join(x for x in (method, "/".join(parts), ranged) if x)
 
 
+def _answers(result: ColdResult) -> str:
+    if result.call.tool in NOT_COMPARED:
+        return "not compared (it lists every bag, and the passes add filter_bag's outputs)"
+    return "equal" if result.differs is None else f"**differs**: {result.differs[:160]}"
+
+
 def _quarter_section(run: RunResult, found: ColdPass) -> Iterator[str]:
     yield (
         "The services and workers started once with `BAGMCP_BLOCK_CACHE_BYTES` and `BAGMCP_CACHE_MAX_BYTES` at "
@@ -199,7 +205,7 @@ def _quarter_section(run: RunResult, found: ColdPass) -> Iterator[str]:
                 ms(r.cold.median_ms),
                 ms(r.warm.median_ms) if len(r.warm) else "",
                 mb(r.cold_s3.answered_bytes + r.warm_s3.answered_bytes),
-                "equal" if r.differs is None else f"**differs**: {r.differs[:160]}",
+                _answers(r),
             ]
             for r in results
         ]
