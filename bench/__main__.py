@@ -121,6 +121,7 @@ def _serve_and_measure(run: RunResult, args: argparse.Namespace, preset: Preset,
                             only,
                             watch,
                             partial(_keep, run, args),
+                            profile=args.cold_profile,
                         )
                         run.cold = anyio.run(measure_cold, served, run.bags, warmups, cold)
             except Exception as err:  # the other mode is still worth its figures; the page says what failed

@@ -137,6 +137,7 @@ def _profiled(setup: ColdSetup, label: str, tool: str, profiles: list[Profile], 
             exits.enter_context(recording(setup.fresh.pid(name), out))
         yield
     summaries = [summarize(out, label=label, process=name) for name, out in outputs.items()]
+    print(f"[bench] py-spy, {label}: " + ", ".join(f"{p.process} {p.samples} samples" for p in summaries), flush=True)
     profiles.extend(p for p in summaries if p.samples >= COLD_MIN_SAMPLES)
 
 

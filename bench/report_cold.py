@@ -100,7 +100,7 @@ def sections(run: RunResult) -> Iterator[str]:
         "Before each tool's cold call the services (bag-store, analysis, plotting) and their workers are stopped "
         "and started again on the same ports with new, empty data directories, so no block cache, whole copy, "
         "local index or opened bag is left; Redis, weed and the gateway keep running. The tool is then called once "
-        "on a one-second warm-up bag of the same format (imports, decoders, the gateway's session to the new "
+        "on a six-second warm-up bag of the same format (imports, decoders, the gateway's session to the new "
         "process), and the timed cold call on the benchmark bag follows, then the warm calls. Every S3 request "
         "of every process goes through a loopback proxy started by the bench (bench/delay_proxy.py), which counts "
         "the bytes S3 answered (*S3 bytes*: block-cache ranges, whole copies, index files, HEADs, the workers' "
