@@ -59,7 +59,7 @@ bench: install  ## on demand, not in CI: every tool as MCP calls (embedded, stac
 bench-fleet: install  ## questions across 500 generated short bags, embedded and stack (writes BENCHMARKS.fleet.md)
 	$(PY) -m bench.fleet $(BENCH_ARGS)
 
-bench-quick: install  ## the benchmark's small version (about a minute; writes .bench/BENCHMARKS.quick.md)
+bench-quick: install  ## the benchmark's small version (about ten minutes; writes .bench/BENCHMARKS.quick.md)
 	$(PY) -m bench --quick $(BENCH_ARGS)
 
 docs-images: install  ## regenerate docs/images/*.png: one example of each plot kind, from generated bags

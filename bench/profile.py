@@ -17,6 +17,7 @@ from tests.fixtures.processes import BIN
 _LINE = re.compile(r"^(?P<stack>.*) (?P<count>\d+)$")
 _FRAME = re.compile(r"^(?P<function>.*?) \((?P<file>.*?)(?::\d+)?\)$")
 PROJECT = "bagmcp_"
+MIN_SAMPLES = 20  # a process that sampled less than this did not take part (a worker idle for inline work)
 # Threads parked in these are waiting, not working (py-spy's idle detection misses some of them).
 WAITING = (
     "Condition.wait (threading.py)",

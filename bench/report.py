@@ -8,8 +8,12 @@ from collections.abc import Iterator
 
 from bench.calls import CALLS, BenchCall
 from bench.floors import FLOORS
+from bench.machine import load_by_phase
 from bench.measure import CallResult
 from bench.profile import Profile
+from bench.report_cold import sections as cold_sections
+from bench.report_cold import target_rows as cold_target_rows
+from bench.report_parts import FLOOR_LABELS, ms, table, yes
 from bench.results import (
     CHEAP_CALLS_PER_S,
     CHEAP_P99_MS,
@@ -26,24 +30,8 @@ from bench.results import (
 )
 from bench.stats import Timing
 
-FLOOR_LABELS = {f.key: f.label for f in FLOORS}
 TARGET_MODE = "embedded"  # the issues state the per-call targets for the embedded server
-
-
-def _ms(value: float) -> str:
-    return f"{value:,.1f}" if value < 100 else f"{value:,.0f}"
-
-
-def _yes(met: bool | None) -> str:
-    return "" if met is None else ("met" if met else "**missed**")
-
-
-def _table(header: list[str], rows: list[list[str]]) -> Iterator[str]:
-    yield "| " + " | ".join(header) + " |"
-    yield "|" + "---|" * len(header)
-    for row in rows:
-        yield "| " + " | ".join(row) + " |"
-    yield ""
+_ms, _yes, _table = ms, yes, table
 
 
 def _floor(run: RunResult, kind: str, key: str | None) -> Timing | None:
@@ -203,6 +191,18 @@ def _profile_section(profile: Profile) -> Iterator[str]:
     yield from _table(["project frames: frame", "inside %", "own %"], rows)
 
 
+def _load_lines(run: RunResult) -> list[str]:
+    """The machine's load while each phase ran (other work shares the cores: say so beside the figures)."""
+    if not run.load:
+        return []
+    phases = "; ".join(f"{phase} {median:.1f} (max {peak:.1f})" for phase, median, peak in load_by_phase(run.load))
+    return [
+        f"1-minute load average while the run went, median by phase, sampled every 10 s ({run.machine.cores} "
+        f"cores; the benchmark's own servers and client count too): {phases}.",
+        "",
+    ]
+
+
 def render(run: RunResult, *, notes: str) -> str:
     """The whole page; ``notes`` (markdown written by hand after looking at a run) says why targets are missed."""
     machine = run.machine
@@ -225,6 +225,7 @@ def render(run: RunResult, *, notes: str) -> str:
         f"{machine.cores} cores ({machine.cpu}), {machine.memory_gib} GiB RAM, Python {machine.python}, "
         f"{machine.system}. The bench client runs on the same cores as the servers.",
         "",
+        *_load_lines(run),
         "## Bags",
         "",
     ]
@@ -244,6 +245,10 @@ def render(run: RunResult, *, notes: str) -> str:
         "",
     ]
     lines += _table(["target", "issue", *(m.mode for m in run.modes), ""], _target_rows(run))
+    cold_rows = cold_target_rows(run)
+    if cold_rows:
+        lines += ["### The stack's cold reads from S3 (issue 21)", ""]
+        lines += _table(["target", "format", "figure", "limit", ""], cold_rows)
     lines += [notes.strip(), ""] if notes.strip() else []
     lines += ["", "## rosbags floors (median ms)", ""]
     kinds = [b.kind for b in run.bags]
@@ -251,7 +256,8 @@ def render(run: RunResult, *, notes: str) -> str:
     lines += _table(["floor", *kinds], rows)
     for mode in run.modes:
         lines += list(_mode_section(run, mode))
-    profiles = [p for m in run.modes for p in m.profiles]
+    lines += list(cold_sections(run))
+    profiles = [p for m in run.modes for p in m.profiles] + [p for c in run.cold for p in c.profiles]
     if profiles:
         lines += ["## Profiles", "", "py-spy on the serving process while the work ran (idle threads left out).", ""]
         for profile in profiles:

@@ -5,6 +5,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 from bench.bags import BenchBag
+from bench.cold import ColdPass
 from bench.machine import Machine
 from bench.measure import CallResult, LoadResult, Overhead
 from bench.profile import Profile
@@ -35,6 +36,8 @@ class RunResult:
     floors: dict[str, dict[str, Timing]]  # bag kind -> floor key -> timing
     modes: list[ModeResult] = field(default_factory=list)
     wall_s: float = 0.0
+    cold: list[ColdPass] = field(default_factory=list)  # the stack's cold passes (bench/cold.py)
+    load: list[tuple[str, float]] = field(default_factory=list)  # (phase, 1-minute load average) samples
 
 
 def cold_limit_ms(result: CallResult, floor: Timing | None) -> float | None:

@@ -13,12 +13,11 @@ from bench.bags import BenchBag
 from bench.calls import service_of
 from bench.measure import CallResult, bag_durations, measure_bag, run_load
 from bench.measure import measure_overhead as gateway_overhead
-from bench.profile import Profile, recording, summarize
+from bench.profile import MIN_SAMPLES, Profile, recording, summarize
 from bench.results import THROUGHPUT_CLIENTS, ModeResult, warm_met
 from bench.servers import Served, wait_ready
 
 PROFILE_REPEATS = 40  # enough samples at py-spy's rate for a warm call of ~10 ms
-MIN_SAMPLES = 20  # a process that sampled less than this did not take part (a worker idle for inline work)
 
 
 @dataclass(frozen=True)
@@ -49,7 +48,7 @@ def _profiled(
 async def measure_mode(served: Served, bags: list[BenchBag], plan: Plan, *, began: float) -> ModeResult:
     mode = ModeResult(served.mode)
     endpoint = served.endpoint
-    await wait_ready(endpoint, len(bags))
+    await wait_ready(endpoint, served.serves or len(bags))
     mode.ready_s = time.monotonic() - began
     listed = await bag_durations(endpoint)
     for bag in bags:

@@ -16,7 +16,7 @@ from bench.client import Endpoint
 from tests.fixtures.mcp_client import call, http_client
 from tests.fixtures.processes import BIN, http_ok, service
 from tests.fixtures.servers import _redis_process, _weed_process, free_port
-from tests.integration.stack import SERVICE_TOKEN, TOKEN, start_stack
+from tests.integration.stack import SERVICE_TOKEN, TOKEN, Stack, start_stack
 
 INGEST_TIMEOUT_S = 1800.0
 JOB_BUDGET_S = "120"  # long enough that every benchmarked call answers with its result
@@ -31,6 +31,8 @@ class Served:
     endpoint: Endpoint
     processes: dict[str, subprocess.Popen[bytes]]
     direct: Endpoint | None = None
+    running: Stack | None = None  # the stack's processes (for the cold passes' restarts)
+    serves: int = 0  # bags it lists once ready (0: the measured ones; embedded serves the whole folder)
 
 
 async def wait_ready(endpoint: Endpoint, count: int, *, timeout_s: float = INGEST_TIMEOUT_S) -> None:
@@ -56,15 +58,17 @@ def embedded(folder: Path, work: Path) -> Iterator[Served]:
     command = [str(BIN / "bagmcp"), "serve", "--bags", str(folder), "--port", str(port), "--data", str(work / "data")]
     env = {"BAGMCP_JOB_BUDGET_S": JOB_BUDGET_S}
     with service("bagmcp-serve", command, env=env, log_dir=work, ready=http_ok(f"{url}/healthz")) as proc:
-        yield Served("embedded", Endpoint(f"{url}/mcp", None), {"bagmcp serve": proc})
+        count = sum(not p.name.startswith(".") for p in folder.iterdir())
+        yield Served("embedded", Endpoint(f"{url}/mcp", None), {"bagmcp serve": proc}, serves=count)
 
 
 @contextmanager
-def stack(bags: list[BenchBag], work: Path) -> Iterator[Served]:
-    """The local stack with ``bags`` uploaded through the gateway's REST API."""
+def stack(bags: list[BenchBag], work: Path, *, extra_bytes: int = 0) -> Iterator[Served]:
+    """The local stack with ``bags`` uploaded through the gateway's REST API (room in S3 for
+    ``extra_bytes`` more: the cold passes' warm-up bags)."""
     with ExitStack() as exits:
         redis_url = exits.enter_context(_redis_process())
-        volumes = 16 + 2 * sum(b.size_bytes for b in bags) // (64 * 2**20)  # 64 MB each, room to spare
+        volumes = 16 + 2 * (extra_bytes + sum(b.size_bytes for b in bags)) // (64 * 2**20)  # 64 MB each, spare room
         s3 = exits.enter_context(_weed_process(volumes=volumes))
         running = start_stack(redis_url, s3, work, exits, env={"BAGMCP_JOB_BUDGET_S": JOB_BUDGET_S})
         for bag in bags:
@@ -72,4 +76,4 @@ def stack(bags: list[BenchBag], work: Path) -> Iterator[Served]:
         processes = dict(running.processes)
         processes.update({f"{of} worker": proc for of, proc in running.workers})
         direct = Endpoint(f"{running.bag_store_url}/mcp", SERVICE_TOKEN)
-        yield Served("stack", Endpoint(f"{running.url}/mcp", TOKEN), processes, direct)
+        yield Served("stack", Endpoint(f"{running.url}/mcp", TOKEN), processes, direct, running)
