@@ -90,8 +90,10 @@ class ReaderCache:
         with self._lock:
             if not entry.index_loaded:
                 entry.index, entry.index_loaded = index, True
-            self._evict()
-            return entry.index
+            closing, found = self._evict(), entry.index
+        for old in closing:  # the readers of bags this index pushed out are closed, not left to the collector
+            old.close()
+        return found
 
     def discard(self, bag_id: str) -> None:
         """Forget every entry of ``bag_id`` (deleted or re-ingested); busy readers close when returned."""

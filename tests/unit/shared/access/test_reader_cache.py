@@ -104,3 +104,13 @@ def test_closing_the_cache_closes_its_readers_and_a_busy_one_when_it_is_returned
     _count(cache, "a", bags[0])
     assert cache.opened == 3
     cache.close()
+
+
+def test_an_index_that_pushes_a_bag_out_closes_its_readers(bags: list[Path], caches: Caches) -> None:
+    cache = caches(OpenBagLimits(max_bags=1))
+    assert _count(cache, "a", bags[0]) == 200
+    assert cache.index("b", bags[1], lambda: None) is None
+    assert len(cache) == 1
+    gc.collect()  # the pushed-out reader, had it been dropped unclosed, would warn here
+    _count(cache, "a", bags[0])
+    assert cache.opened == 2
