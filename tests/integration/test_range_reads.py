@@ -354,7 +354,7 @@ def test_zstd_file_directories_are_still_copied_whole_and_answer_right(
     catalog = MemoryCatalog()
     record = shelve(store, catalog, local, tmp_path, name="whole")
     files = RangedBagFiles(store, tmp_path / "service-cache", max_bytes=1 << 30, reads=ROOMY)
-    with BagAccess(catalog, files).open("whole") as bag, open_bag(local) as embedded:
+    with closing(BagAccess(catalog, files)) as access, access.open("whole") as bag, open_bag(local) as embedded:
         assert all_messages(bag.reader) == all_messages(embedded)
     assert (tmp_path / "service-cache" / record.id / record.files[-1]).is_file()  # opened by path
     assert files.blocks.counters.fetched_bytes == 0
@@ -410,7 +410,7 @@ def test_a_db3_stored_with_its_wal_file_is_copied_whole_and_the_rows_in_the_wal_
     )
     files = RangedBagFiles(store, tmp_path / "cache", max_bytes=1 << 30, reads=ROOMY)
     assert Ingestor(catalog, files, files, store).ingest(record.id) == "ready"
-    with BagAccess(catalog, files).open("walled") as bag, open_bag(stored) as embedded:
+    with closing(BagAccess(catalog, files)) as access, access.open("walled") as bag, open_bag(stored) as embedded:
         expected = all_messages(embedded)
         assert len(expected) == COUNT + COUNT // 10 + 50
         assert all_messages(bag.reader) == expected

@@ -108,6 +108,10 @@ class BagAccess:
     def record(self, ref: str) -> BagRecord:
         return resolve_bag(self.catalog, ref)
 
+    def close(self) -> None:
+        """Close the readers the cache keeps open (the process, or a test, is done with this access)."""
+        self.cache.close()
+
     def ready(self, ref: str) -> BagRecord:
         return ready_record(self.catalog, ref)
 

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import json
 import mmap
+from contextlib import suppress
 from pathlib import Path
 
 import numpy as np
@@ -31,10 +32,27 @@ def _open(path: Path) -> DFReader_binary:
     try:
         return DFReader_binary(str(path), zero_time_base=False)
     except Exception as err:  # pymavlink raises assertion, struct and its own errors on bad bytes
+        _close_half_made(err)
         detail = str(err).strip().splitlines()[0] if str(err).strip() else type(err).__name__
         raise DamagedBagError(
             f"{path}: the DataFlash log is damaged and cannot be read ({detail}); use an intact copy"
         ) from err
+
+
+def _close_half_made(err: BaseException) -> None:
+    """Close the file and map of a reader whose constructor failed after opening them: pymavlink does not,
+    and the caller never gets the object (its frames in the traceback still hold it as ``self``)."""
+    frame = err.__traceback__
+    while frame is not None:
+        made = frame.tb_frame.f_locals.get("self")
+        if isinstance(made, DFReader_binary):
+            if (handle := getattr(made, "filehandle", None)) is not None:
+                handle.close()
+            with suppress(BufferError):  # a view of the map may live on in the traceback: then it goes with it
+                if (mapped := getattr(made, "data_map", None)) is not None:
+                    mapped.close()
+            return
+        frame = frame.tb_next
 
 
 def _records(reader: DFReader_binary) -> tuple[np.ndarray, np.ndarray]:
