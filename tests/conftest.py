@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import os
+from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
@@ -16,11 +17,21 @@ CORPUS = Path(os.environ.get("BAGMCP_CORPUS", Path(__file__).resolve().parents[2
 
 
 @pytest.fixture(scope="session")
-def corpus() -> Path:
-    """The real recordings beside the checkout; tests using it skip when it is absent."""
+def corpus() -> Iterator[Path]:
+    """The real recordings beside the checkout; tests using it skip when it is absent. Nothing may write
+    there (a served folder is never written to): every file, its size and modification time, are the same
+    when the session ends (SQLite opened without ``immutable`` once added -wal/-shm files beside .db3 bags)."""
     if not CORPUS.is_dir():
         pytest.skip(f"recorded bag corpus not found at {CORPUS} (set BAGMCP_CORPUS)")
-    return CORPUS
+    before = _files_of(CORPUS)
+    yield CORPUS
+    after = _files_of(CORPUS)
+    changed = sorted(name for name in before.keys() | after.keys() if before.get(name) != after.get(name))
+    assert not changed, f"tests or the product wrote into the corpus: {changed}"
+
+
+def _files_of(root: Path) -> dict[str, tuple[int, int]]:
+    return {str(p.relative_to(root)): (p.stat().st_size, p.stat().st_mtime_ns) for p in root.rglob("*") if p.is_file()}
 
 
 @pytest.fixture(scope="session")

@@ -74,7 +74,7 @@ def test_topics_match_with_or_without_the_leading_slash(scenario_bag: Path) -> N
 
 def test_sqlite3_topic_statistics_are_scanned_once_per_file_content(scenario_bags: dict[BagKind, Path]) -> None:
     storage = next(scenario_bags["ros2-sqlite3"].glob("*.db3"))
-    db = sqlite3.connect(f"{storage.resolve().as_uri()}?mode=ro", uri=True)
+    db = sqlite3.connect(f"{storage.resolve().as_uri()}?mode=ro&immutable=1", uri=True)
     scans: list[str] = []
     db.set_trace_callback(lambda statement: scans.append(statement) if "GROUP BY" in statement else None)
     first = topic_stats(db, file_key(storage))
