@@ -109,23 +109,28 @@ class DelayProxy:
         await asyncio.gather(*others, return_exceptions=True)
 
     async def _connection(self, client_in: asyncio.StreamReader, client_out: asyncio.StreamWriter) -> None:
-        with suppress(asyncio.CancelledError):  # cancelled when the proxy stops: ends quietly
-            await self._relay(client_in, client_out)
+        try:
+            with suppress(asyncio.CancelledError):  # cancelled when the proxy stops: ends quietly
+                await self._relay(client_in, client_out)
+        finally:
+            client_out.close()  # on a stop too: a writer left open warns when it is collected
 
     async def _relay(self, client_in: asyncio.StreamReader, client_out: asyncio.StreamWriter) -> None:
         try:
             server_in, server_out = await asyncio.open_connection(*self._target)
         except OSError:
-            client_out.close()
             return
         turn = [True]  # the client's next bytes start a request
         upward = asyncio.create_task(self._requests(client_in, server_out, turn))
         downward = asyncio.create_task(self._answers(server_in, client_out, turn))
-        done, _ = await asyncio.wait((upward, downward), return_when=asyncio.FIRST_COMPLETED)
-        if upward in done and not downward.done():  # the client is done sending: let the answer finish
-            await asyncio.wait((downward,), timeout=ANSWER_AFTER_EOF_S)
-        for task in (upward, downward):
-            task.cancel()
+        try:
+            done, _ = await asyncio.wait((upward, downward), return_when=asyncio.FIRST_COMPLETED)
+            if upward in done and not downward.done():  # the client is done sending: let the answer finish
+                await asyncio.wait((downward,), timeout=ANSWER_AFTER_EOF_S)
+        finally:
+            for task in (upward, downward):
+                task.cancel()
+            server_out.close()
         for writer in (client_out, server_out):
             writer.close()
             with suppress(OSError, asyncio.CancelledError):
