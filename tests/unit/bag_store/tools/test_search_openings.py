@@ -2,13 +2,13 @@
 
 from __future__ import annotations
 
-from contextlib import AbstractContextManager
 from typing import Any
 
 import pytest
 from mcp import Client
 
-from bagmcp_shared.access import BagAccess, OpenBag
+from bagmcp_shared.access import BagAccess
+from tests.fixtures.call_spy import first_arguments
 from tests.fixtures.inprocess import InProcess
 from tests.fixtures.mcp_client import call
 
@@ -19,15 +19,7 @@ pytestmark = pytest.mark.anyio
 def openings(served: InProcess, monkeypatch: pytest.MonkeyPatch) -> list[str]:
     """The bags opened through the services' access layer while the test runs (the real opening still runs)."""
     access: BagAccess = served.composition.embedded.resources.access
-    opened: list[str] = []
-    real_open = access.open
-
-    def counted(ref: str, **options: Any) -> AbstractContextManager[OpenBag]:
-        opened.append(ref)
-        return real_open(ref, **options)
-
-    monkeypatch.setattr(access, "open", counted)
-    return opened
+    return first_arguments(monkeypatch, access, "open")
 
 
 @pytest.mark.parametrize(

@@ -3,14 +3,12 @@ with the PNG bytes it drew, never reading back the image it has just written; a 
 
 from __future__ import annotations
 
-from contextlib import AbstractContextManager
-from typing import BinaryIO
-
 import pytest
 from mcp import Client
 
 from bagmcp_shared.storage import ObjectStore
 from tests.checks.plot_checks import plot
+from tests.fixtures.call_spy import first_arguments
 from tests.fixtures.inprocess import InProcess
 
 pytestmark = pytest.mark.anyio
@@ -20,15 +18,7 @@ pytestmark = pytest.mark.anyio
 def reads(served_drive: InProcess, monkeypatch: pytest.MonkeyPatch) -> list[str]:
     """The object keys read from the services' store while the test runs (the real read still runs)."""
     store: ObjectStore = served_drive.composition.embedded.resources.store
-    keys: list[str] = []
-    real_read = store.open_read
-
-    def counted(key: str) -> AbstractContextManager[BinaryIO]:
-        keys.append(key)
-        return real_read(key)
-
-    monkeypatch.setattr(store, "open_read", counted)
-    return keys
+    return first_arguments(monkeypatch, store, "open_read")
 
 
 async def test_a_fresh_plot_is_looked_up_once_and_its_png_is_not_read_back(
