@@ -9,7 +9,12 @@ import pytest
 
 from tests.fixtures.bagfactory import BagKind
 from tests.fixtures.inprocess import InProcess, copy_bags, in_process
-from tests.fixtures.small_bags import write_instant_bag, write_late_topic_bag, write_old_tf_drive
+from tests.fixtures.small_bags import (
+    write_instant_bag,
+    write_late_camera_bag,
+    write_late_topic_bag,
+    write_old_tf_drive,
+)
 
 SCENARIO_NAMES = ["scenario", "scenario_db3", "scenario_mcap"]
 DRIVE_NAMES = ["drive", "drive_db3", "drive_mcap"]
@@ -31,10 +36,10 @@ def served_drive(drive_bags: dict[BagKind, Path], tmp_path_factory: pytest.TempP
 
 @pytest.fixture(scope="session")
 def served_small(tmp_path_factory: pytest.TempPathFactory) -> Iterator[InProcess]:
-    """The small bags of tests/fixtures/small_bags.py (old_tf, late_imu, instant)."""
+    """The small bags of tests/fixtures/small_bags.py (old_tf, late_imu, late_camera, instant)."""
     folder = tmp_path_factory.mktemp("served-small") / "bags"
     folder.mkdir()
-    for write in (write_old_tf_drive, write_late_topic_bag, write_instant_bag):
+    for write in (write_old_tf_drive, write_late_topic_bag, write_late_camera_bag, write_instant_bag):
         write(folder)
     with in_process(folder, tmp_path_factory.mktemp("data")) as services:
         yield services

@@ -22,7 +22,9 @@ class TopicActivity(BaseModel):
     longest_silence_s: float | None = Field(description="longest time without a message inside the window")
     silent_from: Instant | None
     delay_s: float | None = Field(description="median log time - header stamp in the window")
-    bag_delay_s: float | None = Field(description="the same over the whole bag")
+    bag_delay_s: float | None = Field(
+        description="the same over the bag (a topic the index does not hold: sampled in 8 stretches across it)"
+    )
     status: TopicStatus = Field(
         description="slow: under half its bag rate; gap: silent over 3 periods; late: delay over twice "
         "the bag's and 50 ms more; absent: not recorded then"
