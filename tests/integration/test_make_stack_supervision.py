@@ -1,6 +1,7 @@
 """`make stack` never runs unsupervised: closing the terminal (SIGHUP) or killing the supervisor stops every
-process of the stack, and a new start over a directory whose old processes still run says so and stops them,
-then starts on the same ports. Before, all processes kept running and the next start crash-looped on their
+process of the stack (SIGTERM too), a second start over a directory whose supervisor is alive is refused with
+its pid, and a new start over a directory whose old processes still run says so and stops them, then starts on
+the same ports. Before, all processes kept running and the next start crash-looped on their
 bound ports for about 90 s."""
 
 from __future__ import annotations
@@ -15,7 +16,7 @@ from pathlib import Path
 import pytest
 
 from tests.fixtures.make_stack import MakeStack, processes_of
-from tests.fixtures.processes import wait_until
+from tests.fixtures.processes import http_ok, wait_until
 
 pytestmark = pytest.mark.integration
 
@@ -41,14 +42,25 @@ def _supervisor_gone(stack: MakeStack, sig: signal.Signals) -> None:
     stack.process = None
 
 
-def test_closing_the_terminal_stops_every_process(stack: MakeStack) -> None:
+@pytest.mark.parametrize("sig", [signal.SIGHUP, signal.SIGTERM], ids=["SIGHUP", "SIGTERM"])
+def test_closing_the_terminal_or_sigterm_stops_every_process(stack: MakeStack, sig: signal.Signals) -> None:
     assert len(processes_of(stack.directory)) >= 11  # supervisor, watchdog, redis, weed, 3 services, 3 workers, ...
-    _supervisor_gone(stack, signal.SIGHUP)
+    _supervisor_gone(stack, sig)
     wait_until(lambda: not processes_of(stack.directory), timeout_s=30, what="every stack process to stop")
-    assert "stopping every process: asked to (SIGHUP)" in stack.log.read_text()
+    assert f"stopping every process: asked to ({sig.name})" in stack.log.read_text()
 
 
-def test_a_killed_supervisor_takes_its_processes_with_it(stack: MakeStack) -> None:
+def test_a_second_start_is_refused_while_the_supervisor_lives_and_a_killed_one_takes_its_processes(
+    stack: MakeStack,
+) -> None:
+    assert stack.process is not None
+    running = sorted(processes_of(stack.directory))
+    second = stack.command_start()
+    assert second.returncode == 1
+    said = f"bagmcp stack: a stack runs in {stack.directory} already (pid {stack.process.pid}); stop it or set"
+    assert said in second.stderr, second.stderr
+    assert sorted(processes_of(stack.directory)) == running  # nothing stopped, nothing started
+    assert http_ok(f"{stack.url}/readyz")()
     _supervisor_gone(stack, signal.SIGKILL)
     wait_until(lambda: not processes_of(stack.directory), timeout_s=30, what="the watchdog to stop every process")
     log = stack.log.read_text()

@@ -136,20 +136,37 @@ async def test_an_image_past_the_pixel_budget_is_refused_before_decoding(capped:
     assert capped.process.poll() is None
 
 
-def test_bagmcp_info_refuses_the_chunk_bombs_in_one_line(hostile_folder: Path) -> None:
-    for name in ("mcap_chunk_bomb.mcap", "ros1_chunk_bomb.bag"):
-        done = subprocess.run(
-            [str(BIN / "bagmcp"), "info", str(hostile_folder / name)],
-            capture_output=True,
-            text=True,
-            timeout=60,
-            env={**CAPPED_ENV, "PATH": "/usr/bin:/bin"},
-            preexec_fn=capped_address_space(CAP_BYTES),
-            check=False,
-        )
-        assert done.returncode != 0
-        assert "refused as a decompression bomb" in done.stderr, done.stderr[-2000:]
-        assert "Traceback" not in done.stderr
+INFO_REFUSALS = {
+    "mcap_chunk_bomb.mcap": "the zstd chunk at byte 36 declares 1,073,741,9",
+    "mcap_lz4_lie.mcap": "an lz4 chunk holds more than 268,435,456 bytes uncompressed in 4,",
+    "ros1_chunk_bomb.bag": "the bz2 chunk at byte 4,109 declares 1,073,742,",
+    "yaml_alias_bomb*/": "metadata.yaml uses the YAML alias *l0 at line 2; it is refused to bound memory",
+    "scenario-sqlite3-zstd-file/": "zstd: expands more than 200 times when decompressed; refusing it as a",
+}
+
+
+@pytest.mark.parametrize("name", INFO_REFUSALS)
+def test_bagmcp_info_refuses_the_chunk_bombs_in_one_line(hostile_folder: Path, name: str) -> None:
+    """Each bomb, files and bag directories alike, is refused by `bagmcp info` under the same 2 GiB cap with
+    one line on stderr (exit status 1, no traceback): the lz4 chunk that declares 1,000 bytes is stopped at
+    256 MiB, the alias bomb before rosbags parses metadata.yaml, the storage file while it is decompressed."""
+    bag = next(hostile_folder.glob(name.rstrip("/")))
+    assert bag.is_dir() == name.endswith("/")
+    done = subprocess.run(
+        [str(BIN / "bagmcp"), "info", str(bag)],
+        capture_output=True,
+        text=True,
+        timeout=60,
+        env={**CAPPED_ENV, "PATH": "/usr/bin:/bin"},
+        preexec_fn=capped_address_space(CAP_BYTES),
+        check=False,
+    )
+    assert done.returncode == 1, done.stderr[-2000:]
+    assert done.stdout == ""
+    assert done.stderr.count("\n") == 1, done.stderr[-2000:]
+    assert done.stderr.startswith(f"bagmcp: error: {bag}")
+    assert INFO_REFUSALS[name] in done.stderr, done.stderr
+    assert "Traceback" not in done.stderr
 
 
 async def test_the_server_stayed_under_its_cap_after_every_case(capped: Capped) -> None:

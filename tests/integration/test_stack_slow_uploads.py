@@ -1,8 +1,9 @@
 """Slow and abandoned uploads through the gateway (a handful of raw connections, a 2 s idle setting): an upload
 that sends nothing for the idle time ends with 408 and a sentence, a token holds at most its number of uploads
 at once (429 with a sentence) while other tokens upload, and a client that goes away mid-upload costs one log
-line, no traceback. Before, 1,500 uploads at 1 byte per 2 s starved the gateway and each aborted one logged
-two tracebacks."""
+line, no traceback. `bagmcp serve` (the embedded gateway, same settings) refuses every upload at once, before
+reading its body, and closes its connection, so a slow one holds nothing there. Before, 1,500 uploads at 1 byte
+per 2 s starved the gateway and each aborted one logged two tracebacks."""
 
 from __future__ import annotations
 
@@ -15,24 +16,38 @@ from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
+import httpx
 import pytest
 
 from bagmcp_gateway.access.upload_limits import UPLOAD_PATH
 from tests.fixtures.bagfactory import write_chatter_bag
-from tests.fixtures.processes import wait_until
+from tests.fixtures.processes import BIN, http_ok, service, wait_until
 from tests.fixtures.servers import free_port
 from tests.integration.stack import OTHER_TOKEN, TOKEN, Stack, bagmcp, run_gateway
 
 IDLE_S = 2
 PER_TOKEN = 2
+SETTINGS = {"BAGMCP_UPLOAD_IDLE_S": str(IDLE_S), "BAGMCP_UPLOADS_PER_TOKEN": str(PER_TOKEN)}
 
 
 @pytest.fixture(scope="module")
 def gateway(stack: Stack) -> Iterator[str]:
     port = free_port()
-    settings = {"BAGMCP_UPLOAD_IDLE_S": str(IDLE_S), "BAGMCP_UPLOADS_PER_TOKEN": str(PER_TOKEN)}
-    with run_gateway(stack, "gateway-slow-uploads", port, settings):
+    with run_gateway(stack, "gateway-slow-uploads", port, SETTINGS):
         yield f"http://127.0.0.1:{port}"
+
+
+@pytest.fixture(scope="module")
+def served(tmp_path_factory: pytest.TempPathFactory) -> Iterator[str]:
+    """`bagmcp serve --token TOKEN` over an empty folder, with the same upload settings as the gateway."""
+    folder, data, logs = (tmp_path_factory.mktemp(n) for n in ("slow-serve-bags", "slow-serve-data", "slow-serve-logs"))
+    port = free_port()
+    url = f"http://127.0.0.1:{port}"
+    command = [str(BIN / "bagmcp"), "serve", "--bags", str(folder), "--port", str(port), "--data", str(data)]
+    with service(
+        "serve-slow-uploads", [*command, "--token", TOKEN], env=SETTINGS, log_dir=logs, ready=http_ok(f"{url}/healthz")
+    ):
+        yield url
 
 
 class SlowUpload:
@@ -127,3 +142,24 @@ def test_a_client_that_goes_away_mid_upload_costs_one_log_line(stack: Stack, gat
     assert len([line for line in said.splitlines() if "went away" in line]) == 1
     assert "Traceback" not in said
     assert "Traceback" not in _log_after(store_log, offsets[1])
+
+
+def test_bagmcp_serve_answers_slow_uploads_at_once_and_holds_no_connection(served: str) -> None:
+    """More stalled uploads of one token than the limit, and a trickling one: each is answered 405 read_only
+    at once (long before the idle time; none 429) and its connection closed, though the client would go on.
+    Before, the trickling one's connection stayed open as long as it sent (over 20 s at a byte per 0.5 s)."""
+    began = time.monotonic()
+    uploads = [SlowUpload(served, TOKEN) for _ in range(PER_TOKEN + 1)] + [SlowUpload(served, TOKEN, every_s=0.2)]
+    try:
+        for upload in uploads:
+            status, body = upload.answer()
+            assert status == 405, body
+            assert body["error"]["code"] == "read_only"
+            assert "uploads are disabled" in body["error"]["message"]
+            upload.sock.settimeout(IDLE_S)
+            assert upload.sock.recv(100) == b""  # closed by the server, not held for the rest of the body
+        assert time.monotonic() - began < IDLE_S
+    finally:
+        for upload in uploads:
+            upload.close()
+    assert httpx.get(f"{served}/healthz", timeout=10).status_code == 200

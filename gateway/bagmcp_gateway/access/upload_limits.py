@@ -6,6 +6,10 @@ every other call time out; now one token holds ``per_token`` connections and an 
 Tokens are told apart by a hash of the Authorization header (the route's own check of the token runs after
 this, inside the app), so a caller without a valid token is refused there as before. The counts are per
 gateway process: N replicas admit N x ``per_token`` uploads of one token.
+
+An answer sent before the body was read to its end (429, 408, or the app's own refusal, such as ``bagmcp
+serve``'s 405 read_only) closes the connection: else the server kept it open for the rest of the body, which a
+client trickling a byte at a time could hold forever.
 """
 
 from __future__ import annotations
@@ -43,6 +47,26 @@ def _caller_key(scope: Scope) -> str:
     return hashlib.sha256(header).hexdigest()[:24] if header else "anonymous"
 
 
+class _ClosedUnlessRead:
+    """``receive`` that notes when the body has been read to its end, and ``send`` that adds ``Connection:
+    close`` to an answer that comes before it."""
+
+    def __init__(self, receive: Receive, send: Send) -> None:
+        self._receive, self._send = receive, send
+        self._read = False
+
+    async def receive(self) -> Message:
+        message = await self._receive()
+        if message["type"] == "http.disconnect" or not message.get("more_body", False):
+            self._read = True
+        return message
+
+    async def send(self, message: Message) -> None:
+        if message["type"] == "http.response.start" and not self._read:
+            message = {**message, "headers": [*message.get("headers", []), (b"connection", b"close")]}
+        await self._send(message)
+
+
 class UploadGuard:
     """ASGI middleware applying ``UploadLimits`` to uploads; every other request passes untouched."""
 
@@ -54,6 +78,8 @@ class UploadGuard:
         if not _is_upload(scope):
             await self._app(scope, receive, send)
             return
+        body = _ClosedUnlessRead(receive, send)
+        receive, send = body.receive, body.send
         caller = _caller_key(scope)
         running = self._running.get(caller, 0)
         if running >= self._limits.per_token:
