@@ -4,14 +4,15 @@ blocks holding the text and the images themselves (Claude sees plots)."""
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Any
 
 import anthropic
 from mcp.types import Tool
 
 from bagmcp_lab.errors import ProviderError
-from bagmcp_lab.providers.conversation import ModelReply, ProposedCall, refusal, system_prompt
+from bagmcp_lab.providers.conversation import Chat, ModelReply, ProposedCall, refusal, system_prompt
+from bagmcp_lab.providers.factory import Opening
 from bagmcp_lab.toolbox import ToolAnswer
 
 MAX_OUTPUT_TOKENS = 4096
@@ -31,13 +32,8 @@ def _result_block(call: ProposedCall, answer: ToolAnswer, *, images: bool) -> di
 
 
 @dataclass
-class AnthropicConversation:
-    client: anthropic.AsyncAnthropic
-    model: str
-    tools: list[dict[str, Any]]
-    messages: list[dict[str, Any]] = field(default_factory=list)
+class AnthropicConversation(Chat[anthropic.AsyncAnthropic]):
     system: str = ""
-    images: bool = True
 
     async def reply(self) -> ModelReply:
         try:
@@ -68,17 +64,9 @@ class AnthropicConversation:
         self.messages.append({"role": "user", "content": blocks})
 
 
-def anthropic_conversation(
-    *,
-    model: str,
-    api_key: str,
-    base_url: str | None,
-    tools: Sequence[Tool],
-    history: Sequence[tuple[str, str]],
-    images: bool = True,
-    instructions: str | None = None,
-) -> AnthropicConversation:
-    """``history``: (role, text) pairs of an earlier chat, the last being the user's new question."""
-    client = anthropic.AsyncAnthropic(api_key=api_key, base_url=base_url, max_retries=2)
-    messages = [{"role": role, "content": text} for role, text in history]
-    return AnthropicConversation(client, model, tool_specs(tools), messages, system_prompt(instructions), images)
+def anthropic_conversation(opening: Opening) -> AnthropicConversation:
+    choice = opening.choice
+    client = anthropic.AsyncAnthropic(api_key=choice.api_key, base_url=choice.base_url, max_retries=2)
+    messages = [{"role": role, "content": text} for role, text in opening.history]
+    prompt = system_prompt(opening.instructions)
+    return AnthropicConversation(client, choice.model, tool_specs(opening.tools), messages, choice.images, prompt)

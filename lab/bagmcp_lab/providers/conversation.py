@@ -3,8 +3,8 @@
 from __future__ import annotations
 
 import json
-from dataclasses import dataclass
-from typing import Any, Protocol
+from dataclasses import dataclass, field
+from typing import Any, Generic, Protocol, TypeVar
 
 from bagmcp_lab.toolbox import ToolAnswer
 
@@ -18,6 +18,21 @@ SYSTEM_PROMPT = (
 def system_prompt(instructions: str | None) -> str:
     """Ours, then the MCP server's own instructions, as an MCP host (Claude Desktop, Cursor) gives them."""
     return f"{SYSTEM_PROMPT}\n\nThe MCP server's instructions:\n{instructions}" if instructions else SYSTEM_PROMPT
+
+
+C = TypeVar("C")
+
+
+@dataclass
+class Chat(Generic[C]):
+    """A provider's conversation so far: its SDK client, the model, the tools in the provider's format, the
+    messages, and whether the images of tool answers are passed on."""
+
+    client: C
+    model: str
+    tools: list[dict[str, Any]]
+    messages: list[dict[str, Any]] = field(default_factory=list)
+    images: bool = True
 
 
 @dataclass(frozen=True)

@@ -36,6 +36,17 @@ class ProviderChoice:
         return self.model
 
 
+@dataclass(frozen=True)
+class Opening:
+    """What a conversation starts from: the model, the MCP server's tools and instructions, and the chat so far
+    as (role, text) pairs, the last being the user's new question."""
+
+    choice: ProviderChoice
+    tools: Sequence[Tool]
+    history: Sequence[tuple[str, str]]
+    instructions: str | None
+
+
 def key_from_env(provider: str, env: Mapping[str, str], *, variable: str | None, base_url: str | None) -> str:
     """The key in the environment variable ``variable`` (default: the provider's usual one)."""
     if provider not in PROVIDERS:
@@ -57,19 +68,11 @@ def open_conversation(
     instructions: str | None = None,
 ) -> Conversation:
     """A conversation whose last ``history`` entry is the user's question; ``instructions``: the MCP server's."""
-    make: Callable[..., Conversation]
+    make: Callable[[Opening], Conversation]
     if choice.provider == "anthropic":
         from bagmcp_lab.providers.anthropic_chat import anthropic_conversation as make
     elif choice.provider == "openai":
         from bagmcp_lab.providers.openai_chat import openai_conversation as make
     else:
         raise LabError(f"unknown provider {choice.provider!r}; use one of {', '.join(PROVIDERS)}")
-    return make(
-        model=choice.model,
-        api_key=choice.api_key,
-        base_url=choice.base_url,
-        tools=tools,
-        history=history,
-        images=choice.images,
-        instructions=instructions,
-    )
+    return make(Opening(choice, tools, history, instructions))

@@ -5,7 +5,6 @@ Studio via ``base_url``). Tool messages carry text only, so images follow in a u
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass, field
 from typing import Any
 
 import openai
@@ -13,12 +12,14 @@ from mcp.types import Tool
 
 from bagmcp_lab.errors import ProviderError
 from bagmcp_lab.providers.conversation import (
+    Chat,
     ModelReply,
     ProposedCall,
     parse_arguments,
     refusal,
     system_prompt,
 )
+from bagmcp_lab.providers.factory import Opening
 from bagmcp_lab.toolbox import ToolAnswer
 
 
@@ -42,14 +43,7 @@ def _image_message(answers: list[tuple[ProposedCall, ToolAnswer]]) -> dict[str, 
     return {"role": "user", "content": parts} if parts else None
 
 
-@dataclass
-class OpenAIConversation:
-    client: openai.AsyncOpenAI
-    model: str
-    tools: list[dict[str, Any]]
-    messages: list[dict[str, Any]] = field(default_factory=list)
-    images: bool = True
-
+class OpenAIConversation(Chat[openai.AsyncOpenAI]):
     async def reply(self) -> ModelReply:
         try:
             response = await self.client.chat.completions.create(
@@ -87,17 +81,9 @@ class OpenAIConversation:
             self.messages.append(images)
 
 
-def openai_conversation(
-    *,
-    model: str,
-    api_key: str,
-    base_url: str | None,
-    tools: Sequence[Tool],
-    history: Sequence[tuple[str, str]],
-    images: bool = True,
-    instructions: str | None = None,
-) -> OpenAIConversation:
-    client = openai.AsyncOpenAI(api_key=api_key, base_url=base_url, max_retries=2)
-    system = {"role": "system", "content": system_prompt(instructions)}
-    messages = [system, *({"role": r, "content": t} for r, t in history)]
-    return OpenAIConversation(client, model, tool_specs(tools), messages, images)
+def openai_conversation(opening: Opening) -> OpenAIConversation:
+    choice = opening.choice
+    client = openai.AsyncOpenAI(api_key=choice.api_key, base_url=choice.base_url, max_retries=2)
+    system = {"role": "system", "content": system_prompt(opening.instructions)}
+    messages = [system, *({"role": r, "content": t} for r, t in opening.history)]
+    return OpenAIConversation(client, choice.model, tool_specs(opening.tools), messages, choice.images)

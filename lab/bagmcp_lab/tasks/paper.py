@@ -10,7 +10,7 @@ from collections.abc import Awaitable, Callable
 from typing import Any
 
 from bagmcp_lab.tasks.bag_probe import LASER, ODOMETRY, TF, TWIST, BagProbe
-from bagmcp_lab.tasks.model import Requirement, Task, number_fact, verdict_fact, word_fact
+from bagmcp_lab.tasks.model import Fact, Requirement, Task, number_fact, verdict_fact, word_fact
 from bagmcp_lab.toolbox import ToolBox
 
 Builder = Callable[[ToolBox, BagProbe], Awaitable[Task | str]]
@@ -28,6 +28,13 @@ def position_of(odometry: dict[str, Any]) -> dict[str, float]:
 
 def _on(probe: BagProbe, question: str) -> str:
     return f"{question} (bag: {probe.bag})"
+
+
+def _one_tool(
+    task_id: str, title: str, probe: BagProbe, question: str, tool: str, facts: tuple[Fact, ...] = ()
+) -> Task:
+    """A task on the probed bag that one tool answers."""
+    return Task(task_id, title, _on(probe, question), (Requirement((tool,)),), facts)
 
 
 async def list_bags(box: ToolBox, probe: BagProbe) -> Task | str:
@@ -56,17 +63,13 @@ async def trajectory_summary(box: ToolBox, probe: BagProbe) -> Task | str:
         number_fact("max speed (m/s)", summary["max_speed_mps"], tolerance=0.005),
     )
     question = "Trajectory summary for the whole bag: total distance, mean and max speed."
-    return Task(
-        "p03-trajectory", "Trajectory summary", _on(probe, question), (Requirement(("analyze_trajectory",)),), facts
-    )
+    return _one_tool("p03-trajectory", "Trajectory summary", probe, question, "analyze_trajectory", facts)
 
 
 async def plot_trajectory(box: ToolBox, probe: BagProbe) -> Task | str:
     if probe.topic(ODOMETRY) is None:
         return "the bag has no odometry topic"
-    return Task(
-        "p04-plot-trajectory", "Plot the trajectory", _on(probe, "Plot the trajectory."), (Requirement(("plot_2d",)),)
-    )
+    return _one_tool("p04-plot-trajectory", "Plot the trajectory", probe, "Plot the trajectory.", "plot_2d")
 
 
 async def passed_near(box: ToolBox, probe: BagProbe) -> Task | str:
@@ -90,13 +93,7 @@ async def passed_near(box: ToolBox, probe: BagProbe) -> Task | str:
         number_fact("time of closest approach (s)", closest["time"]["offset_s"], tolerance=TIME_TOLERANCE_S),
     )
     question = f"Has the robot passed within {NEAR_RADIUS_M:g} m of ({x:g}, {y:g})? Closest approach, where and when."
-    return Task(
-        "p05-passed-near",
-        "Passed within Z m of (X, Y)?",
-        _on(probe, question),
-        (Requirement(("search_messages",)),),
-        facts,
-    )
+    return _one_tool("p05-passed-near", "Passed within Z m of (X, Y)?", probe, question, "search_messages", facts)
 
 
 async def lidar_obstacle(box: ToolBox, probe: BagProbe) -> Task | str:
@@ -111,13 +108,7 @@ async def lidar_obstacle(box: ToolBox, probe: BagProbe) -> Task | str:
         number_fact("first time within (s)", first["time"]["offset_s"], tolerance=TIME_TOLERANCE_S),
     )
     question = f"Does the lidar show an obstacle? When is the first time something is within {within:g} m?"
-    return Task(
-        "p06-lidar-obstacle",
-        "Lidar obstacle within X m",
-        _on(probe, question),
-        (Requirement(("analyze_lidar_scan",)),),
-        facts,
-    )
+    return _one_tool("p06-lidar-obstacle", "Lidar obstacle within X m", probe, question, "analyze_lidar_scan", facts)
 
 
 async def scan_and_histogram(box: ToolBox, probe: BagProbe) -> Task | str:
@@ -136,13 +127,7 @@ async def tf_frames(box: ToolBox, probe: BagProbe) -> Task | str:
     tree = await box.reference("get_tf_tree", bag=probe.bag)
     facts = tuple(word_fact(f"frame {frame}", frame) for frame in tree["frames"])
     question = "List all frames and their relationships."
-    return Task(
-        "p08-tf-frames",
-        "List all frames and relationships",
-        _on(probe, question),
-        (Requirement(("get_tf_tree",)),),
-        facts,
-    )
+    return _one_tool("p08-tf-frames", "List all frames and relationships", probe, question, "get_tf_tree", facts)
 
 
 def _short(topic: str) -> str:

@@ -4,7 +4,7 @@ artifact named by the request, and report what was plotted."""
 from __future__ import annotations
 
 import struct
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from typing import Annotated, Literal, TypeVar
 
 import numpy as np
@@ -101,6 +101,16 @@ def _window_title(ob: OpenBag, lo: int, hi: int) -> str:
     return f"{ob.name}, {(lo - ob.start_ns) / 1e9:.1f}-{(hi - ob.start_ns) / 1e9:.1f} s"
 
 
+def _window_report(
+    ob: OpenBag, lo: int, hi: int, title: str, series: list[SeriesOut], notes: Sequence[str] = ()
+) -> PlotReport:
+    """The report of a plot of one bag's window, before its PNG is stored (``Plotter._store`` adds it)."""
+    start, end = ob.instant(lo), ob.instant(hi)
+    return PlotReport(
+        bags=[ob.name], title=title, start=start, end=end, series=series, artifact=_PENDING, notes=list(notes)
+    )
+
+
 P = TypeVar("P", bound=BaseModel)
 PlotDraw = Callable[[P, Progress, str | None], PlotReport]
 
@@ -147,16 +157,7 @@ class Plotter:
                 title = params.title or f"{', '.join(s.name for s in series)} ({_window_title(ob, lo, hi)})"
                 lines = [Line(s.name, s.unit, s.t_s(ob.start_ns), s.values) for s in series]
                 png = render_timeseries(lines, style=params.style, title=title)
-                report = PlotReport(
-                    bags=[ob.name],
-                    title=title,
-                    start=ob.instant(lo),
-                    end=ob.instant(hi),
-                    series=[_series_out(s) for s in series],
-                    artifact=_PENDING,
-                    notes=[],
-                )
-                return self._store(key, png, report)
+                return self._store(key, png, _window_report(ob, lo, hi, title, [_series_out(s) for s in series]))
 
         return self._plot(TIMESERIES, params, [params.bag], make, key)
 
@@ -179,15 +180,7 @@ class Plotter:
                     color_by_time=params.color_by_time,
                     mark_ends=trajectory,
                 )
-                report = PlotReport(
-                    bags=[ob.name],
-                    title=title,
-                    start=ob.instant(lo),
-                    end=ob.instant(hi),
-                    series=[_series_out(x), _series_out(y)],
-                    artifact=_PENDING,
-                    notes=notes,
-                )
+                report = _window_report(ob, lo, hi, title, [_series_out(x), _series_out(y)], notes)
                 return self._store(key, png, report)
 
         return self._plot(XY, params, [params.bag], make, key)
@@ -255,16 +248,7 @@ class Plotter:
                 png = render_histogram(
                     series.values, bins=params.bins, label=series.name, unit=series.unit, title=title
                 )
-                report = PlotReport(
-                    bags=[ob.name],
-                    title=title,
-                    start=ob.instant(lo),
-                    end=ob.instant(hi),
-                    series=[_series_out(series)],
-                    artifact=_PENDING,
-                    notes=[],
-                )
-                return self._store(key, png, report)
+                return self._store(key, png, _window_report(ob, lo, hi, title, [_series_out(series)]))
 
         return self._plot(HISTOGRAM, params, [params.bag], make, key)
 

@@ -19,12 +19,11 @@ SHORT_TOPIC = 5_000  # messages decoded inline, without a job
 
 
 @dataclass(frozen=True)
-class OpenBag:
-    """A ready bag, open for reading, with its catalog summary and (when built) columnar index."""
+class KnownBag:
+    """What the catalog knows about a ready bag: its record, summary and (when built) columnar index."""
 
     record: BagRecord
     summary: CatalogSummary
-    reader: BagReader
     index: ColumnIndex | None
 
     @property
@@ -38,6 +37,13 @@ class OpenBag:
     @property
     def name(self) -> str:
         return self.record.name
+
+
+@dataclass(frozen=True)
+class OpenBag(KnownBag):
+    """A ready bag, open for reading, with its catalog summary and (when built) columnar index."""
+
+    reader: BagReader
 
     def topic(self, name: str) -> TopicStats:
         """Counts and bounds of a topic (leading slash optional) from the catalog."""
@@ -136,4 +142,4 @@ class BagAccess:
         path, opener = self.files.reader_for(record)
         index = self.cache.index(record.id, path, lambda: ColumnIndex.load(self.files.index_dir(record)))
         with self.cache.reader(record.id, path, opener) as reader:
-            yield OpenBag(record, summary, reader, index)
+            yield OpenBag(record, summary, index, reader)

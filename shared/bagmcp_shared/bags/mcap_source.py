@@ -12,7 +12,7 @@ from __future__ import annotations
 import base64
 import json
 import struct
-from collections.abc import Callable, Collection, Iterator, Sequence
+from collections.abc import Callable, Collection, Iterator
 from dataclasses import replace
 from pathlib import Path
 from typing import BinaryIO, TypeVar
@@ -31,6 +31,7 @@ from bagmcp_shared.bags.mcap_records import RecordError
 from bagmcp_shared.bags.mcap_scan import scan, stream
 from bagmcp_shared.bags.models import Compression, Connection, Encoding, RawMessage
 from bagmcp_shared.bags.plain_types import type_name
+from bagmcp_shared.bags.source import ListedSource
 from bagmcp_shared.errors import DamagedBagError, UnsupportedFormatError
 
 _ENCODINGS = {
@@ -82,7 +83,7 @@ def _connection(channel: Channel, schema: Schema | None, count: int) -> Connecti
     )
 
 
-class McapSource:
+class McapSource(ListedSource):
     """One MCAP file: a local ``path``, or a seekable ``stream`` of ``size`` bytes named ``path``."""
 
     def __init__(
@@ -190,14 +191,6 @@ class McapSource:
             for ch in self._readable_channels(found.channels)
         ]
         return conns, found.bounds, found.chunk_compressions
-
-    @property
-    def connections(self) -> Sequence[Connection]:
-        return self._connections
-
-    @property
-    def notes(self) -> Sequence[str]:
-        return self._notes
 
     @property
     def compression(self) -> Compression:

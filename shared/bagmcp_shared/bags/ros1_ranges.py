@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import heapq
 import io
-from collections.abc import Callable, Collection, Iterator, Sequence
+from collections.abc import Callable, Collection, Iterator
 from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import BinaryIO, TypeVar
@@ -23,6 +23,7 @@ from rosbags.rosbag1.reader import Header, RecordType, decompressors, normalize,
 from rosbags.typesys.msg import normalize_msgtype
 
 from bagmcp_shared.bags.models import Compression, Connection, Encoding, RawMessage
+from bagmcp_shared.bags.source import ListedSource
 from bagmcp_shared.errors import DamagedBagError
 
 MAGIC = b"#ROSBAG V2.0\n"
@@ -72,7 +73,7 @@ def _chunk_span(stream: BinaryIO) -> ChunkSpan:
     return ChunkSpan(header.get_uint64("chunk_pos"), header.get_time("start_time"), header.get_time("end_time"), counts)
 
 
-class Ros1RangeSource:
+class Ros1RangeSource(ListedSource):
     """A ROS 1 bag (format 2.0) read by its end index; ``name`` stands for it in messages."""
 
     def __init__(self, name: Path, stream: BinaryIO) -> None:
@@ -107,14 +108,6 @@ class Ros1RangeSource:
         totals = {c.id: sum(span.counts.get(c.id, 0) for span in chunks) for c in found}
         connections = [replace(c, count=totals[c.id]) for c in found]
         return connections, chunks
-
-    @property
-    def connections(self) -> Sequence[Connection]:
-        return self._connections
-
-    @property
-    def notes(self) -> Sequence[str]:
-        return []
 
     @property
     def compression(self) -> Compression:

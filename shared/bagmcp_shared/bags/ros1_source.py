@@ -4,7 +4,7 @@ decompressed within the memory budget (ros1_chunks)."""
 from __future__ import annotations
 
 import struct
-from collections.abc import Collection, Iterator, Sequence
+from collections.abc import Collection, Iterator
 from pathlib import Path
 
 from rosbags.interfaces import Connection as RbConnection
@@ -13,6 +13,7 @@ from rosbags.rosbag1 import Reader, ReaderError
 
 from bagmcp_shared.bags.models import Compression, Connection, Encoding, RawMessage
 from bagmcp_shared.bags.ros1_chunks import bound_chunks
+from bagmcp_shared.bags.source import ListedSource
 from bagmcp_shared.errors import BagError, DamagedBagError
 
 
@@ -38,7 +39,7 @@ def _convert(conn: RbConnection) -> Connection:
     )
 
 
-class Ros1Source:
+class Ros1Source(ListedSource):
     """A ROS 1 bag; the bag's index (read at open) gives counts and first/last times."""
 
     def __init__(self, path: Path) -> None:
@@ -62,14 +63,6 @@ class Ros1Source:
         self._by_id = {c.id: c for c in self._reader.connections}
         self._connections = [_convert(c) for c in self._reader.connections]
         self._compression = Compression.of_chunks(chunk_names)
-
-    @property
-    def connections(self) -> Sequence[Connection]:
-        return self._connections
-
-    @property
-    def notes(self) -> Sequence[str]:
-        return []
 
     @property
     def compression(self) -> Compression:

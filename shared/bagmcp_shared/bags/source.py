@@ -43,7 +43,23 @@ class MessageSource(Protocol):
     def close(self) -> None: ...
 
 
-class MergedSource:
+class ListedSource:
+    """The part of a ``MessageSource`` that lists what it found at open: its ``_connections`` (set by the
+    subclass) and its ``_notes`` (none unless the subclass sets some)."""
+
+    _connections: list[Connection]
+    _notes: Sequence[str] = ()
+
+    @property
+    def connections(self) -> Sequence[Connection]:
+        return self._connections
+
+    @property
+    def notes(self) -> Sequence[str]:
+        return self._notes
+
+
+class MergedSource(ListedSource):
     """Several storage files of one bag (split ROS 2 bags) seen as one source.
 
     Connections with the same topic and type across files become one connection whose count
@@ -86,12 +102,8 @@ class MergedSource:
                 mapping[local_id] = merged[(conn.topic, conn.msgtype)]
 
     @property
-    def connections(self) -> Sequence[Connection]:
-        return self._connections
-
-    @property
     def notes(self) -> Sequence[str]:
-        return self._notes + [note for source in self._sources for note in source.notes]
+        return [*self._notes, *(note for source in self._sources for note in source.notes)]
 
     @property
     def compression(self) -> Compression:

@@ -19,6 +19,7 @@ from typing import Any, BinaryIO, Protocol
 import apsw
 
 from bagmcp_shared.bags.models import Compression, Connection, Encoding, RawMessage
+from bagmcp_shared.bags.source import ListedSource
 from bagmcp_shared.bags.sqlite3_stream import connect_stream
 from bagmcp_shared.errors import DamagedBagError, UnsupportedFormatError
 
@@ -132,7 +133,7 @@ def forget_topic_stats() -> None:
         _STATS.clear()
 
 
-class Sqlite3Source:
+class Sqlite3Source(ListedSource):
     """One ``.db3`` file: a local one at ``path``, or one read through ``stream`` (a seekable stream and its
     size; ``path`` then names it in messages). Opened with ``counted=False`` it does not count each topic's
     messages, a scan of every row that on a stored file fetches all of it: its connections then hold no
@@ -181,14 +182,6 @@ class Sqlite3Source:
             raise DamagedBagError(f"{self._path}: the sqlite3 tables could not be read ({err})") from err
         self._connections = [replace(c, count=stats.get(c.id, (0, 0, 0))[0]) for c in self._connections]
         self._bounds = {tid: (lo, hi) for tid, (_, lo, hi) in stats.items()}
-
-    @property
-    def connections(self) -> Sequence[Connection]:
-        return self._connections
-
-    @property
-    def notes(self) -> Sequence[str]:
-        return []
 
     @property
     def compression(self) -> Compression:

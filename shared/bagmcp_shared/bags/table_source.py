@@ -15,6 +15,7 @@ import numpy as np
 import numpy.typing as npt
 
 from bagmcp_shared.bags.models import Compression, Connection, RawMessage
+from bagmcp_shared.bags.source import ListedSource
 
 
 @dataclass(frozen=True)
@@ -35,7 +36,7 @@ def listed_payloads(items: Sequence[bytes]) -> Callable[[int], bytes]:
     return lambda i: items[i]
 
 
-class TableSource:
+class TableSource(ListedSource):
     """A MessageSource over streams (see ``source.MessageSource``)."""
 
     def __init__(
@@ -45,14 +46,6 @@ class TableSource:
         self._connections = [s.connection for s in streams]
         self._notes = list(notes)
         self._close = close
-
-    @property
-    def connections(self) -> Sequence[Connection]:
-        return self._connections
-
-    @property
-    def notes(self) -> Sequence[str]:
-        return self._notes
 
     @property
     def compression(self) -> Compression:

@@ -14,8 +14,8 @@ import math
 import shutil
 import sqlite3
 import struct
-from collections.abc import Callable, Iterable
-from contextlib import suppress
+from collections.abc import Callable, Iterable, Iterator
+from contextlib import contextmanager, suppress
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -126,7 +126,9 @@ def write_filtered(
     tracker = _Tracker(total, progress, cancelled)
     writer = _open_writer(target, fmt, compression)
     try:
-        counts = _write(reader, writer, spec, streams, topics, tracker)
+        with _write_errors(writer):
+            counts = _copy(reader, writer, spec, streams, topics, tracker)
+            writer.close()
     except BaseException:
         with suppress(Exception):
             writer.abort()
@@ -277,21 +279,13 @@ def _put(writer: AnyWriter, target: RbConnection | int, log_time_ns: int, data: 
         writer.write(target, log_time_ns, data)
 
 
-def _write(
-    reader: BagReader,
-    writer: AnyWriter,
-    spec: FilterSpec,
-    streams: dict[int, _Stream],
-    topics: list[str],
-    tracker: _Tracker,
-) -> dict[str, int]:
-    """Write the selected messages and close the bag; third-party write errors become FilterError."""
+@contextmanager
+def _write_errors(writer: AnyWriter) -> Iterator[None]:
+    """Third-party write errors become FilterError."""
     try:
-        counts = _copy(reader, writer, spec, streams, topics, tracker)
-        writer.close()
+        yield
     except _WRITE_ERRORS as err:
         raise FilterError(f"{writer.path}: the filtered bag could not be written ({err})") from err
-    return counts
 
 
 def _copy(

@@ -5,6 +5,7 @@ from __future__ import annotations
 import io
 from collections.abc import Iterator
 from contextlib import contextmanager
+from functools import partial
 from pathlib import Path
 from typing import TYPE_CHECKING, BinaryIO
 
@@ -81,22 +82,11 @@ class S3Store(StreamPutters):
         self._bucket = bucket
         try:
             check_bucket_name(bucket)
-            self._client = Minio(
-                endpoint,
-                access_key=access_key,
-                secret_key=secret_key,
-                secure=secure,
-                region=region,
-                http_client=_http_client(read_timeout_s, ca_file),
+            client = partial(
+                Minio, endpoint, access_key=access_key, secret_key=secret_key, secure=secure, region=region
             )
-            self._probe = Minio(
-                endpoint,
-                access_key=access_key,
-                secret_key=secret_key,
-                secure=secure,
-                region=region,
-                http_client=_probe_client(ca_file),
-            )
+            self._client = client(http_client=_http_client(read_timeout_s, ca_file))
+            self._probe = client(http_client=_probe_client(ca_file))
         except ValueError as err:
             raise StorageError(f"Cannot use bucket {bucket!r} at {self._url}: {err}.") from err
 

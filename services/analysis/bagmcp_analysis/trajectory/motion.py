@@ -84,8 +84,8 @@ def analyse_motion(track: Track, *, stop_speed_mps: float, turn_rate_rps: float)
         elapsed_s=elapsed_s,
         speed_mps=speed,
         moving=moving,
-        stops=_stops(starts, span_ends, elapsed_s, ~moving),
-        stationary=_stationary_runs(starts, span_ends, stationary_mask, unwrapped),
+        stops=_stops(_sample_runs(~moving, starts, span_ends), elapsed_s),
+        stationary=_stationary_runs(_sample_runs(stationary_mask, starts, span_ends), unwrapped),
         repeated_stamps=repeated,
         backwards_stamps=backwards,
         bursts=int((measured_s > raw_s + 1e-9).sum()),
@@ -161,29 +161,20 @@ def _runs(mask: npt.NDArray[np.bool_]) -> list[tuple[int, int]]:
     return list(zip(firsts.tolist(), lasts.tolist(), strict=True))
 
 
-def _stops(
-    starts: npt.NDArray[np.int64],
-    span_ends: npt.NDArray[np.int64],
-    elapsed_s: npt.NDArray[np.float64],
-    stopped: npt.NDArray[np.bool_],
-) -> list[Stop]:
-    result = []
-    for first, last in _runs(stopped):
-        duration_s = float(elapsed_s[first : last + 1].sum())
-        if duration_s >= MIN_STOP_S - 1e-9:
-            result.append(Stop(int(starts[first]), int(span_ends[last]), duration_s))
-    return result
+def _sample_runs(
+    mask: npt.NDArray[np.bool_], starts: npt.NDArray[np.int64], span_ends: npt.NDArray[np.int64]
+) -> list[tuple[slice, int, int]]:
+    """Each run of windows where ``mask`` holds: its windows, and the first and last sample it spans."""
+    return [(slice(first, last + 1), int(starts[first]), int(span_ends[last])) for first, last in _runs(mask)]
 
 
-def _stationary_runs(
-    starts: npt.NDArray[np.int64],
-    span_ends: npt.NDArray[np.int64],
-    stationary: npt.NDArray[np.bool_],
-    unwrapped: npt.NDArray[np.float64],
-) -> list[StationaryRun]:
-    result = []
-    for first, last in _runs(stationary):
-        start, end = int(starts[first]), int(span_ends[last])
-        turn = float(unwrapped[end] - unwrapped[start])
-        result.append(StationaryRun(start, end, turn if math.isfinite(turn) else None))
-    return result
+def _stops(runs: list[tuple[slice, int, int]], elapsed_s: npt.NDArray[np.float64]) -> list[Stop]:
+    """The stopped runs that last at least MIN_STOP_S."""
+    stops = [Stop(start, end, float(elapsed_s[windows].sum())) for windows, start, end in runs]
+    return [stop for stop in stops if stop.duration_s >= MIN_STOP_S - 1e-9]
+
+
+def _stationary_runs(runs: list[tuple[slice, int, int]], unwrapped: npt.NDArray[np.float64]) -> list[StationaryRun]:
+    """The stationary runs with their heading change (None where the heading is unknown)."""
+    turns = [(start, end, float(unwrapped[end] - unwrapped[start])) for _, start, end in runs]
+    return [StationaryRun(start, end, turn if math.isfinite(turn) else None) for start, end, turn in turns]

@@ -69,6 +69,34 @@ def _segment_distances(
     return np.hypot(px - (ax + along * dx), py - (ay + along * dy))
 
 
+@dataclass(frozen=True, eq=False)
+class _Path:
+    """The positions, their stationary runs, and the RDP tolerance corners are found and merged with."""
+
+    x: npt.NDArray[np.float64]
+    y: npt.NDArray[np.float64]
+    stationary: list[StationaryRun]
+    tolerance_m: float
+
+    def run_at(self, index: int) -> StationaryRun | None:
+        """The stationary run containing index, or the neighbouring run reached without leaving the tolerance."""
+        runs = self.stationary
+        position = bisect.bisect_right([run.start_index for run in runs], index) - 1
+        if position >= 0:
+            before = runs[position]
+            if index <= before.end_index or self.stays_within(before.end_index, index, index):
+                return before
+        if position + 1 < len(runs):
+            after = runs[position + 1]
+            if self.stays_within(index, after.start_index, index):
+                return after
+        return None
+
+    def stays_within(self, lo: int, hi: int, centre: int) -> bool:
+        spread = np.hypot(self.x[lo : hi + 1] - self.x[centre], self.y[lo : hi + 1] - self.y[centre])
+        return bool(spread.max() <= self.tolerance_m)
+
+
 def select_waypoints(
     x: npt.NDArray[np.float64],
     y: npt.NDArray[np.float64],
@@ -81,68 +109,34 @@ def select_waypoints(
     last = x.size - 1
     if last == 0:
         return [Waypoint(0, "start")]
-    tolerance_m = rdp_tolerance_m(x, y)
-    candidates = _corner_candidates(x, y, stationary, stops, tolerance_m)
+    candidates = _corner_candidates(_Path(x, y, stationary, rdp_tolerance_m(x, y)), stops)
     ranked = sorted(candidates, key=lambda c: (-c.significance, c.index))[: max_waypoints - 2]
     middle = [Waypoint(c.index, c.reason) for c in sorted(ranked, key=lambda c: c.index)]
     return [Waypoint(0, "start"), *middle, Waypoint(last, "end")]
 
 
-def _corner_candidates(
-    x: npt.NDArray[np.float64],
-    y: npt.NDArray[np.float64],
-    stationary: list[StationaryRun],
-    stops: list[Stop],
-    tolerance_m: float,
-) -> list[_Candidate]:
-    last = x.size - 1
+def _corner_candidates(path: _Path, stops: list[Stop]) -> list[_Candidate]:
+    last = path.x.size - 1
     run_significance: dict[int, float] = {}
-    for run in stationary:
+    for run in path.stationary:
         if run.turn_rad is not None and abs(run.turn_rad) > MIN_TURN_RAD:
             run_significance[run.start_index] = abs(run.turn_rad) / MIN_TURN_RAD
     loose: list[_Candidate] = []
-    for index, deviation_m in rdp_corners(x, y, tolerance_m).items():
-        found = _run_at(x, y, stationary, index, tolerance_m)
-        significance = deviation_m / tolerance_m
+    for index, deviation_m in rdp_corners(path.x, path.y, path.tolerance_m).items():
+        found = path.run_at(index)
+        significance = deviation_m / path.tolerance_m
         if found is None:
             loose.append(_Candidate(index, significance, "corner"))
         else:
             previous = run_significance.get(found.start_index, 0.0)
             run_significance[found.start_index] = max(previous, significance)
-    by_start = {run.start_index: run for run in stationary}
+    by_start = {run.start_index: run for run in path.stationary}
     merged = [
         _Candidate(start, significance, "stop" if _has_stop(by_start[start], stops) else "corner")
         for start, significance in run_significance.items()
         if start > 0 and by_start[start].end_index < last
     ]
     return loose + merged
-
-
-def _run_at(
-    x: npt.NDArray[np.float64],
-    y: npt.NDArray[np.float64],
-    stationary: list[StationaryRun],
-    index: int,
-    tolerance_m: float,
-) -> StationaryRun | None:
-    """The stationary run containing index, or the neighbouring run reached without leaving the tolerance."""
-    position = bisect.bisect_right([run.start_index for run in stationary], index) - 1
-    if position >= 0:
-        before = stationary[position]
-        if index <= before.end_index or _stays_within(x, y, before.end_index, index, index, tolerance_m):
-            return before
-    if position + 1 < len(stationary):
-        after = stationary[position + 1]
-        if _stays_within(x, y, index, after.start_index, index, tolerance_m):
-            return after
-    return None
-
-
-def _stays_within(
-    x: npt.NDArray[np.float64], y: npt.NDArray[np.float64], lo: int, hi: int, centre: int, radius_m: float
-) -> bool:
-    spread = np.hypot(x[lo : hi + 1] - x[centre], y[lo : hi + 1] - y[centre])
-    return bool(spread.max() <= radius_m)
 
 
 def _has_stop(run: StationaryRun, stops: list[Stop]) -> bool:

@@ -4,7 +4,6 @@ summary): nothing here decodes the bag again, so feeding the store costs a few m
 from __future__ import annotations
 
 from collections.abc import Callable, Collection, Iterator, Sequence
-from dataclasses import dataclass
 
 import numpy as np
 import numpy.typing as npt
@@ -13,10 +12,11 @@ import pyarrow as pa
 from bagmcp_bag_store.fleet.motion import pose_speeds, topic_gap
 from bagmcp_bag_store.fleet.tf_rows import tf_edge_rows
 from bagmcp_bag_store.fleet.views import VIEWS
+from bagmcp_shared.access import KnownBag
 from bagmcp_shared.catalog import BagRecord, CatalogSummary
 from bagmcp_shared.flight_types import FLIGHT_POSES
 from bagmcp_shared.gps_metres import local_metres
-from bagmcp_shared.index import RECORD_TYPES, TF_TYPES, ColumnIndex
+from bagmcp_shared.index import RECORD_TYPES, TF_TYPES
 from bagmcp_shared.log_levels import level_name, level_rank
 
 Arrays = dict[str, npt.NDArray[np.generic] | Sequence[object]]
@@ -38,17 +38,8 @@ def _at(prefix: str, path: str) -> str:
     return f"{prefix}.{path}" if prefix else path
 
 
-@dataclass(frozen=True)
-class IngestedBag:
+class IngestedBag(KnownBag):
     """What ingest knows about a bag: its record, summary and (when built) columnar index."""
-
-    record: BagRecord
-    summary: CatalogSummary
-    index: ColumnIndex | None
-
-    @property
-    def start_ns(self) -> int:
-        return self.summary.start_ns or 0
 
     def topics_of(self, types: Collection[str]) -> Iterator[tuple[str, str]]:
         """(topic, type) of the bag's topics whose type is among ``types``."""

@@ -9,6 +9,7 @@ answered from the columnar index when the topic has one, so ``columnar`` also te
 
 from __future__ import annotations
 
+from abc import ABC, abstractmethod
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from typing import ClassVar, Literal, Protocol, TypeVar, get_args
@@ -65,42 +66,57 @@ class Scan(Protocol[T_co]):
 T = TypeVar("T")
 
 
+class _Masks(ABC):
+    """A test of a column of numbers, which it masks; answered from the columnar index when there is one."""
+
+    columnar: ClassVar[bool] = True
+
+    @abstractmethod
+    def mask(self, values: Numbers) -> Mask: ...
+
+    def find(self, scan: Scan[T]) -> T:
+        return scan.numbers(self)
+
+
+class _Judges(ABC):
+    """A test of each message decoded, which it judges (the field's value, or every text in the message)."""
+
+    columnar: ClassVar[bool] = False
+
+    @abstractmethod
+    def judge(self, message: object, steps: Steps | None) -> tuple[bool, JsonValue]: ...
+
+    def find(self, scan: Scan[T]) -> T:
+        return scan.messages(self)
+
+
 @dataclass(frozen=True)
-class Compare:
+class Compare(_Masks):
     """greater_than, less_than, equals or not_equals a number (equal within 1e-9)."""
 
     test: Callable[[Numbers, float], Mask]
     number: float
-    columnar: ClassVar[bool] = True
 
     def mask(self, values: Numbers) -> Mask:
         return self.test(values, self.number)
 
-    def find(self, scan: Scan[T]) -> T:
-        return scan.numbers(self)
-
 
 @dataclass(frozen=True)
-class Between:
+class Between(_Masks):
     """low <= value <= high."""
 
     low: float
     high: float
-    columnar: ClassVar[bool] = True
 
     def mask(self, values: Numbers) -> Mask:
         return (values >= self.low) & (values <= self.high)
 
-    def find(self, scan: Scan[T]) -> T:
-        return scan.numbers(self)
-
 
 @dataclass(frozen=True)
-class Extreme:
+class Extreme(_Masks):
     """max or min: the messages holding the window's largest (or smallest) finite value; takes no value."""
 
     pick: Callable[[Numbers], np.float64]
-    columnar: ClassVar[bool] = True
 
     def mask(self, values: Numbers) -> Mask:
         finite = np.isfinite(values)
@@ -108,9 +124,6 @@ class Extreme:
             return finite
         mask: Mask = finite & (values == self.pick(values[finite]))
         return mask
-
-    def find(self, scan: Scan[T]) -> T:
-        return scan.numbers(self)
 
 
 @dataclass(frozen=True)
@@ -130,12 +143,11 @@ class NearPosition:
 
 
 @dataclass(frozen=True)
-class Text:
+class Text(_Judges):
     """contains (any case), regex, or a string equals / not_equals, on the field or every text in a message.
     A message without the field does not match."""
 
     test: Callable[[str], bool]
-    columnar: ClassVar[bool] = False
 
     def judge(self, message: object, steps: Steps | None) -> tuple[bool, JsonValue]:
         if steps is None:
@@ -148,15 +160,10 @@ class Text:
         found = next((text for text in texts if self.test(text)), None)
         return found is not None, (found or "")[:SHOWN_TEXT]
 
-    def find(self, scan: Scan[T]) -> T:
-        return scan.messages(self)
-
 
 @dataclass(frozen=True)
-class FieldExists:
+class FieldExists(_Judges):
     """The message has the field, and it is not empty (an empty string, list or array)."""
-
-    columnar: ClassVar[bool] = False
 
     def judge(self, message: object, steps: Steps | None) -> tuple[bool, JsonValue]:
         try:
@@ -164,9 +171,6 @@ class FieldExists:
         except MessagePathError:
             return False, None
         return _present(picked), to_json(picked, max_items=8, max_text=SHOWN_TEXT)
-
-    def find(self, scan: Scan[T]) -> T:
-        return scan.messages(self)
 
 
 SearchCondition = Compare | Between | Extreme | NearPosition | Text | FieldExists
