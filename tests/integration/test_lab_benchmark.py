@@ -15,6 +15,7 @@ from PIL import Image
 
 from tests.fixtures.bagfactory import BagKind
 from tests.fixtures.drive_bags import write_drive_bags
+from tests.fixtures.drive_images import HEIGHT, IMAGE_TOPICS, WIDTH
 from tests.fixtures.inprocess import copy_bags
 from tests.fixtures.lab_runs import KEY_VARIABLE, PAPER_TASK_IDS, by_task, lab_run, results, served_folder
 from tests.fixtures.processes import BIN
@@ -46,8 +47,10 @@ def model() -> Iterator[ScriptedModel]:
 def test_the_capable_model_succeeds_on_the_papers_ten_tasks_on_each_format(
     served: str, model: ScriptedModel, kind: BagKind, tmp_path: Path
 ) -> None:
+    images_before = model.images_received()
     done = lab_run(model, served, tmp_path, provider="openai", player="capable", bag=NAMES[kind])
     assert done.returncode == 0, done.stderr
+    assert model.images_received() - images_before >= 4  # the plots, as image_url parts after the tool messages
     runs = results(tmp_path)
     assert [run["task"].split("-")[0] for run in runs] == PAPER_TASK_IDS
     assert all(set(run) == RESULT_FIELDS for run in runs)
@@ -96,6 +99,8 @@ def test_the_weak_models_runs_fail_each_for_its_reason(served: str, model: Scrip
     assert "answer does not state closest distance (m) = 0.282843 ± 0.01" in reasons["p05"]
     assert reasons["p06"].startswith("did not call analyze_lidar_scan (called get_message_at_time)")
     assert reasons["p07"] == "did not call plot_histogram with path=linear.x (called plot_lidar_scan)"
+    assert reasons["p08"].startswith("every call of get_tf_tree failed: the arguments of get_tf_tree are not a JSON")
+    assert runs["p08"]["tool_calls"] == [{"name": "get_tf_tree", "arguments": '{"bag": "', "ms": 0.0, "is_error": True}]
     assert reasons["p09"].startswith("did not call filter_bag with include_topics=/cmd_vel (arguments were")
     assert reasons["p10"].startswith("answer does not state max commanded linear velocity (m/s) = 0.5 ± 0.005")
     assert "0/10 runs succeeded" in done.stdout
@@ -165,3 +170,31 @@ def test_a_wrong_or_missing_key_is_one_clear_sentence(served: str, model: Script
         "bagmcp: error: set OPENAI_API_KEY to your openai API key (or name another variable with --api-key-env)"
     )
     assert KEY_VARIABLE not in json.dumps(missing.stderr)
+
+
+def test_no_images_sends_an_openai_model_none_and_the_image_task_still_passes(
+    served: str, model: ScriptedModel, tmp_path: Path
+) -> None:
+    """`--no-images` (models without vision): the image task from a task file on the OpenAI wire sends no
+    image_url part, and passes on the tool's text (the capable test above sees the parts without the flag)."""
+    topic, at = IMAGE_TOPICS["rgb8"]
+    tasks = tmp_path / "image.yaml"
+    tasks.write_text(
+        "tasks:\n"
+        "  - id: o13-image\n"
+        "    title: An image and its size\n"
+        f"    prompt: 'Show me the image on {topic} at t={at:g} s. What is its size in pixels? (bag: {{bag}})'\n"
+        "    requires: [get_image_at_time]\n"
+        "    facts:\n"
+        f"      - {{label: width, tool: get_image_at_time, arguments: {{bag: '{{bag}}', topic: {topic}, time: {at}}},\n"
+        "         path: width}\n"
+    )
+    before, asked = model.images_received(), len(model.received)
+    done = lab_run(model, served, tmp_path / "out", provider="openai", player="capable", bag="drive",
+                   tasks=str(tasks), extra=("--no-images",))  # fmt: skip
+    assert done.returncode == 0, done.stderr
+    [run] = results(tmp_path / "out")
+    assert (run["success"], run["tool_calls"][0]["name"]) == (True, "get_image_at_time"), run["reason"]
+    assert f"The image is {WIDTH} x {HEIGHT} pixels" in run["final_answer"]
+    assert len(model.received) - asked == 2  # the question, then the answer after the tool's text
+    assert model.images_received() == before

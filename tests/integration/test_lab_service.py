@@ -16,6 +16,7 @@ import anyio
 import httpx
 import pytest
 
+from bagmcp_gateway.access.profiles import CORE_TOOLS
 from tests.fixtures.drive_bags import write_drive_bag
 from tests.fixtures.lab_runs import PAPER_TASK_IDS, by_task, lab_run, results, served_folder
 from tests.fixtures.processes import BIN, http_ok, service
@@ -86,8 +87,8 @@ def _api(server: LabServer, method: str, path: str, token: str | None = None, **
     return httpx.request(method, f"{server.url}/api/v1/lab/{path}", headers=headers, timeout=60, **options)
 
 
-def _chat(server: LabServer, body: dict[str, Any]) -> list[dict[str, Any]]:
-    headers = {"Authorization": f"Bearer {server.token}"}
+def _chat(server: LabServer, body: dict[str, Any], token: str | None = None) -> list[dict[str, Any]]:
+    headers = {"Authorization": f"Bearer {token or server.token}"}
     with httpx.stream("POST", f"{server.url}/api/v1/lab/chat", json=body, headers=headers, timeout=120) as answer:
         assert answer.status_code == 200, answer.read()
         return [json.loads(line) for line in answer.iter_lines()]
@@ -142,14 +143,21 @@ def test_embedded_benchmark_runs_fill_their_table_and_are_bounded_per_token(
     embedded: LabServer, model: ScriptedModel
 ) -> None:
     _check_a_run_fills_its_table(embedded, model)
-    body = {**_model(model), "bag": "drive", "tasks": "all", "repeat": 3}
-    first, second, third = (_api(embedded, "POST", "runs", json=body) for _ in range(3))
+    _check_runs_are_bounded_per_token(embedded, model)
+
+
+def _check_runs_are_bounded_per_token(server: LabServer, model: ScriptedModel, token: str | None = None) -> None:
+    """Two runs going per token: the third is refused with 429 until one is cancelled."""
+    body = {**_model(model), "bag": server.bag, "tasks": "all", "repeat": 3}
+    first, second, third = (_api(server, "POST", "runs", token, json=body) for _ in range(3))
     assert (first.status_code, second.status_code, third.status_code) == (202, 202, 429)
     assert third.json()["error"]["message"].startswith("you already have 2 Lab runs or chats going")
     for run in (first, second):
-        assert _api(embedded, "POST", f"{run.json()['run_id']}/cancel").status_code == 200
-        assert _finish(embedded, run.json()["run_id"])["state"] == "cancelled"
-    assert _api(embedded, "POST", "runs", json={**body, "repeat": 1, "tasks": "paper"}).status_code == 202
+        assert _api(server, "POST", f"{run.json()['run_id']}/cancel", token).status_code == 200
+        assert _finish(server, run.json()["run_id"], token)["state"] == "cancelled"
+    again = _api(server, "POST", "runs", token, json={**body, "repeat": 1, "tasks": "paper"})
+    assert again.status_code == 202
+    assert _api(server, "POST", f"{again.json()['run_id']}/cancel", token).status_code == 200
 
 
 def test_embedded_lab_needs_the_token_and_never_logs_the_key(embedded: LabServer, model: ScriptedModel) -> None:
@@ -205,3 +213,26 @@ def test_a_core_profile_token_benchmarks_the_core_tools_only(
     offered = [{t["function"]["name"] for t in r.body["tools"]} for r in model.received[before:]]
     assert offered
     assert all(names == set(listed) for names in offered)
+
+
+def test_team_lab_chat_offers_the_model_only_the_callers_profile_tools(
+    stack: Stack, team: LabServer, model: ScriptedModel
+) -> None:
+    """The Lab service runs a chat's agent loop with the caller's token, not its own service credential: a
+    read-only core-profile token's chat lists, and offers the model, the core tools less filter_bag (a tool that
+    creates a bag needs the upload scope)."""
+    made = stack.rest("POST", "tokens", json={"name": "lab-chat-core", "profile": "core", "scopes": ["read"]})
+    assert made.status_code in (200, 201), made.text
+    core = str(made.json()["token"])
+    readable = sorted(set(CORE_TOOLS) - {"filter_bag"})
+    before = len(model.received)
+    lines = _chat(team, {**_model(model), "prompt": PROMPT.replace("drive", team.bag)}, core)
+    assert [line["kind"] for line in lines] == ["tools", "call", "answer", "text", "done"]
+    assert sorted(lines[0]["names"]) == readable
+    assert (lines[1]["name"], lines[2]["is_error"]) == ("plot_timeseries", False)
+    offered = [sorted(t["function"]["name"] for t in r.body["tools"]) for r in model.received[before:]]
+    assert offered == [readable] * 2  # the question, then the answer after the plot
+
+
+def test_team_lab_runs_are_bounded_per_token(team: LabServer, model: ScriptedModel) -> None:
+    _check_runs_are_bounded_per_token(team, model, OTHER_TOKEN)

@@ -1,5 +1,6 @@
 """Bags whose texts are markup, to show the console renders them as text: a ROS 1 bag with log records
-whose message and node name are HTML that would run script if a page inserted it as markup."""
+whose message and node name are HTML that would run script if a page inserted it as markup, and a topic
+whose name is such HTML."""
 
 from __future__ import annotations
 
@@ -14,6 +15,7 @@ from tests.fixtures.bagfactory import make
 
 SCRIPT_TEXT = "<script>alert(1)</script> obstacle"
 IMG_NODE = "<img src=x onerror=alert(1)>"
+IMG_TOPIC = "/<img src=x onerror=alert(3)>"
 LOG_TYPE = "rosgraph_msgs/msg/Log"
 
 
@@ -28,4 +30,7 @@ def write_hostile_log_bag(directory: Path, *, name: str = "hostile_logs") -> Pat
             header = {"seq": np.uint32(i), "stamp": {"sec": sec, "nanosec": nanosec}, "frame_id": ""}
             log = make(store, LOG_TYPE, header=header, level=np.uint8(8), name=IMG_NODE, msg=text, file="x.py")
             writer.write(connection, stamp, store.serialize_ros1(log, LOG_TYPE))
+        named = writer.add_connection(IMG_TOPIC, "std_msgs/msg/String", typestore=store)
+        note = make(store, "std_msgs/msg/String", data="a topic named as markup")
+        writer.write(named, sc.stamp_ns(0.25), store.serialize_ros1(note, "std_msgs/msg/String"))
     return path

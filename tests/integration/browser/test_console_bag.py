@@ -13,7 +13,7 @@ from playwright.sync_api import Page
 from tests.fixtures import scenario as sc
 from tests.integration.browser.apps_client import call_tool
 from tests.integration.browser.harness import Watched, axe_violations, drawn, record_dialogs, screenshot, sign_in
-from tests.integration.browser.hostile_bags import IMG_NODE, SCRIPT_TEXT, write_hostile_log_bag
+from tests.integration.browser.hostile_bags import IMG_NODE, IMG_TOPIC, SCRIPT_TEXT, write_hostile_log_bag
 from tests.integration.stack import TOKEN, Stack
 
 pytestmark = [pytest.mark.integration, pytest.mark.browser]
@@ -96,7 +96,9 @@ def test_a_bag_page_shows_each_view_with_the_bag_s_numbers(
     screenshot(page, "console-bag-image")
 
 
-def test_log_texts_and_tags_that_are_markup_show_as_text(stack: Stack, watched: Watched, tmp_path: Path) -> None:
+def test_log_texts_tags_and_topic_names_that_are_markup_show_as_text(
+    stack: Stack, watched: Watched, tmp_path: Path
+) -> None:
     page = watched.page
     dialogs = record_dialogs(page)
     bag = write_hostile_log_bag(tmp_path)
@@ -107,6 +109,10 @@ def test_log_texts_and_tags_that_are_markup_show_as_text(stack: Stack, watched: 
     while stack.bags()[name]["status"] != "ready" and time.monotonic() < deadline:
         time.sleep(0.3)
     sign_in(page, stack.url, TOKEN)
+    page.goto(f"{stack.url}/#/bag/{name}")
+    page.locator("#panel-topics tbody tr").first.wait_for()
+    topics = page.locator("#panel-topics tbody tr td:first-child").all_inner_texts()
+    assert sorted(topics) == sorted([sc.LOG_TOPIC, IMG_TOPIC])
     _open(page, stack, name, "logs", ".logline")
     lines = page.locator("#panel-logs .logline").all_inner_texts()
     assert sum(SCRIPT_TEXT in line and IMG_NODE in line for line in lines) == 2
