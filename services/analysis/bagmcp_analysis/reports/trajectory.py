@@ -4,9 +4,9 @@ from __future__ import annotations
 
 from typing import Literal
 
-from pydantic import BaseModel, Field
+from pydantic import BaseModel, ConfigDict, Field
 
-from bagmcp_analysis.trajectory.types import Extents
+from bagmcp_analysis.trajectory.types import Extents, TrackTotals
 from bagmcp_shared.timebase import Instant
 
 
@@ -28,7 +28,9 @@ class StopOut(BaseModel):
     duration_s: float
 
 
-class TrajectoryReport(BaseModel):
+class _Track(BaseModel):
+    """Which track a report is about (its fields come first in the report)."""
+
     bag: str
     topic: str
     type: str
@@ -37,12 +39,13 @@ class TrajectoryReport(BaseModel):
     clock: Literal["header", "log_time"] = Field(description="clock used for speeds and durations")
     start: Instant
     end: Instant
-    samples: int
-    duration_s: float
-    distance_2d_m: float
-    distance_3d_m: float | None
-    displacement_2d_m: float
-    displacement_3d_m: float | None
+
+
+class TrajectoryReport(TrackTotals, _Track):
+    # The track (_Track), then the summary's totals as they are (TrackTotals), then what a report adds; no
+    # docstring, which would become the output schema's description.
+    model_config = ConfigDict(frozen=False)
+
     path_efficiency: float | None = Field(description="displacement / distance (2D)")
     mean_speed_mps: float | None = Field(description="distance / duration")
     mean_moving_speed_mps: float | None = Field(description="distance / moving time")

@@ -7,6 +7,7 @@ from typing import Literal
 
 import numpy as np
 import numpy.typing as npt
+from pydantic import BaseModel, ConfigDict
 
 Clock = Literal["header", "log_time"]
 WaypointReason = Literal["start", "corner", "stop", "end"]
@@ -70,9 +71,13 @@ class Waypoint:
     reason: WaypointReason
 
 
-@dataclass(frozen=True)
-class TrackSummary:
-    """Distances in metres, times in seconds, speeds in m/s; None where a value is undefined."""
+class TrackTotals(BaseModel):
+    """How much of a track there is: the figures a summary computes and its report states as they are.
+
+    A pydantic model so that the report (reports/trajectory.py) takes these fields from here rather than
+    declaring them again; numpy scalars given to it become Python numbers."""
+
+    model_config = ConfigDict(frozen=True)
 
     samples: int
     duration_s: float
@@ -80,6 +85,11 @@ class TrackSummary:
     distance_3d_m: float | None
     displacement_2d_m: float
     displacement_3d_m: float | None
+
+
+class TrackSummary(TrackTotals):
+    """Distances in metres, times in seconds, speeds in m/s; None where a value is undefined."""
+
     path_efficiency: float | None
     mean_speed_mps: float | None
     mean_moving_speed_mps: float | None
