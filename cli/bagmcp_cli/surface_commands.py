@@ -1,5 +1,5 @@
-"""`bagmcp tools --profile P` and `bagmcp config --client C`: the arguments (surface_actions.py does the work,
-imported only when one of them runs)."""
+"""`bagmcp tools --profile P` and `bagmcp config --client C`: the arguments (surface_actions.py and
+client_configs.py do the work, imported only when their command runs)."""
 
 from __future__ import annotations
 
@@ -25,4 +25,4 @@ def add_surface_commands(commands: argparse._SubParsersAction[argparse.ArgumentP
     snippet.add_argument("--token", help="the bearer token to send")
     snippet.add_argument("--name", default="bagmcp", help="the server's name in the client")
     snippet.add_argument("--bags", type=Path, help="instead of a URL: run bagmcp over stdio on this folder of bags")
-    snippet.set_defaults(handler=f"{ACTIONS}:config")
+    snippet.set_defaults(handler="bagmcp_cli.client_configs:config")
