@@ -9,7 +9,7 @@ from typing import Any
 from mcp.server.context import CallNext, HandlerResult, ServerRequestContext
 from mcp.types import CallToolResult
 
-from bagmcp_shared.access.fetch_tally import tallied
+from bagmcp_shared.fetch_tally import tallied
 
 FETCHED_META_KEY = "bagmcp/fetchedBytes"
 

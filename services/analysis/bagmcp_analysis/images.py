@@ -19,7 +19,6 @@ import struct
 from dataclasses import dataclass
 from typing import Literal, TypeVar
 
-import matplotlib
 import numpy as np
 import numpy.typing as npt
 from PIL import Image
@@ -218,6 +217,10 @@ def _picture(
 
 @functools.cache
 def _turbo_table() -> npt.NDArray[np.uint8]:
+    """The turbo colormap for depth images; matplotlib is imported here, on the first depth image, not when
+    the service starts (about 0.3 s of every analysis process's start)."""
+    import matplotlib
+
     rgba = matplotlib.colormaps["turbo"](np.linspace(0.0, 1.0, 256), bytes=True)
     return np.asarray(rgba, dtype=np.uint8)[:, :3]
 

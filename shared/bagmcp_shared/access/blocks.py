@@ -23,7 +23,7 @@ from contextlib import ExitStack, contextmanager, suppress
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from bagmcp_shared.access.fetch_tally import count_fetched
+from bagmcp_shared.fetch_tally import count_fetched
 
 STRIPES = 256
 LOW_WATER = 0.9  # an eviction frees down to this share of the bound, so it is not repeated per block

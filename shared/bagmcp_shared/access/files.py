@@ -16,11 +16,11 @@ from pathlib import Path
 from typing import Protocol
 
 from bagmcp_shared import keys
-from bagmcp_shared.access.fetch_tally import count_fetched
 from bagmcp_shared.access.parts import BagPart, local_parts
 from bagmcp_shared.bags import BagReader, open_bag
 from bagmcp_shared.catalog.models import BagRecord
 from bagmcp_shared.errors import StorageError
+from bagmcp_shared.fetch_tally import count_fetched
 from bagmcp_shared.scratch import own_scratch
 from bagmcp_shared.storage import LocalStore, ObjectStore
 
