@@ -136,9 +136,9 @@ async def _check_globbed(url: str, token: str, bags: int) -> None:
         assert "scans" in await call_error(client, "find_bags", scan_below=0.5)
     assert _rest(url, token, SPEEDS).status_code == 200
     for sql in ("SELECT count(*) FROM logs", "SELECT min(min_range) FROM scans"):
-        refused = _rest(url, token, sql)
-        assert refused.status_code == 403, sql
-        assert "may not read" in refused.json()["error"]["message"]
+        forbidden = _rest(url, token, sql)
+        assert forbidden.status_code == 403, sql
+        assert "may not read" in forbidden.json()["error"]["message"]
 
 
 async def _check_profiled(url: str, token: str) -> None:
