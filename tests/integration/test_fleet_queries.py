@@ -5,6 +5,7 @@ JSON, CSV and Parquet under the same rules; a limited token sees only what its t
 
 from __future__ import annotations
 
+import contextlib
 import io
 import json
 from collections.abc import Iterator
@@ -17,6 +18,7 @@ import pyarrow.parquet as pq
 import pytest
 
 from bagmcp_bag_store.settings import DEFAULT_QUERY_LIMITS
+from bagmcp_cli.main import main as cli_main
 from bagmcp_kit.identity import TOOLS_HEADER
 from tests.checks.fleet_checks import check_fleet, check_refusals, long, query
 from tests.fixtures.bagfactory import BagKind
@@ -24,7 +26,7 @@ from tests.fixtures.inprocess import copy_bags
 from tests.fixtures.mcp_client import call, call_error, http_client
 from tests.fixtures.processes import BIN, http_ok, service
 from tests.fixtures.servers import free_port
-from tests.integration.stack import TOKEN, Stack, bagmcp, new_token
+from tests.integration.stack import TOKEN, Stack, new_token
 
 pytestmark = pytest.mark.anyio
 ADMIN = "fleet-admin-token"
@@ -164,9 +166,12 @@ async def test_serve_answers_across_bags_like_the_per_bag_tools(served: tuple[st
     _check_rest(url, ADMIN, speeds)
 
     def made(name: str, *options: str) -> str:
-        created = bagmcp("token", "create", name, *options, "--data", str(data), "--json")
-        assert created.returncode == 0, created.stderr
-        return str(json.loads(created.stdout)["token"])
+        """`bagmcp token create NAME ... --data D` (the command's code in this process: each run of the command
+        is a Python start, seconds on a busy machine); the running server reads the tokens file there."""
+        printed = io.StringIO()
+        with contextlib.redirect_stdout(printed):
+            assert cli_main(["token", "create", name, *options, "--data", str(data), "--json"]) == 0
+        return str(json.loads(printed.getvalue())["token"])
 
     tokens = Tokens(
         made("traj", *LIMITED),
