@@ -189,9 +189,16 @@ class CachedBagFiles:
         return self._ensure(f"{record.id}-index", wanted, bag_id=record.id)
 
     def publish_index(self, record: BagRecord, built: Path) -> list[str]:
+        """Every file of the index put at once, up to FETCHES_AT_ONCE (each put is a PUT, or a write and an
+        fsync in a local store: one after the other, a short bag's dozen small files cost more than indexing it).
+        The record lists them only after every put succeeded (the first failure is raised here)."""
         names = sorted(p.name for p in built.iterdir() if p.is_file())
-        for name in names:
-            self._store.put_file(keys.index_file(record.id, name), built / name)
+        with ThreadPoolExecutor(max_workers=max(1, min(FETCHES_AT_ONCE, len(names)))) as pool:
+            list(
+                pool.map(
+                    self._store.put_file, [keys.index_file(record.id, n) for n in names], [built / n for n in names]
+                )
+            )
         return names
 
     def _fetch_objects(self, wanted: list[str], root: Path) -> None:

@@ -49,7 +49,9 @@ class IngestedBag(KnownBag):
 
 
 def _table(kind: str, bag: IngestedBag, rows: list[Arrays]) -> pa.Table:
-    """The rows (one dict of equal-length columns per topic) as the view's table, with the bag's columns.
+    """The rows (one dict of equal-length columns per topic) as the view's table, with the bag's columns,
+    sorted by time (``t``) when the view has it: the topics interleave (a stable sort keeps each topic's own
+    order among equal times), so a file's row groups cover increasing times and readers can skip by time.
     NaN becomes NULL, so max() and comparisons skip unknown values (DuckDB sorts NaN above every number)."""
     schema = VIEWS[kind].schema
     tables = [schema.empty_table()]
@@ -58,7 +60,10 @@ def _table(kind: str, bag: IngestedBag, rows: list[Arrays]) -> pa.Table:
         named = {"bag": [bag.record.name] * count, "bag_id": [bag.record.id] * count, **part}
         arrays = [pa.array(named[f.name], type=f.type, from_pandas=True) for f in schema]
         tables.append(pa.Table.from_arrays(arrays, schema=schema))
-    return pa.concat_tables(tables)
+    table = pa.concat_tables(tables)
+    if "t" in schema.names and table.num_rows > 1:
+        table = table.sort_by("t")
+    return table
 
 
 def _timed(bag: IngestedBag, topic: str, t_ns: npt.NDArray[np.int64], values: Arrays) -> Arrays:

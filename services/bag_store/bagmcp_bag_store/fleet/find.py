@@ -72,7 +72,7 @@ def _epoch_s(value: float | str, what: str) -> float:
 
 
 _TOPIC_IS = "lower(trim(topic, '/')) = lower(trim($1, '/'))"
-_PER_TOPIC = "SELECT bag, string_agg(topic || ' (' || type || ')', ', ') AS topics, sum(count) AS n FROM topics"
+_PER_TOPIC = "SELECT bag, string_agg(topic || ' (' || type || ')', ', ') AS topics, sum(count)::BIGINT AS n FROM topics"
 _SPEED = (
     "SELECT bag, max(speed) AS v, arg_max(offset_s, speed) AS offset_s, arg_max(topic, speed) AS topic, "
     "arg_max(x, speed) AS x, arg_max(y, speed) AS y FROM poses WHERE speed > $1 GROUP BY bag"

@@ -4,9 +4,11 @@ lacks them is queued at start and gets them added to its index, from the index, 
 
 from __future__ import annotations
 
+import itertools
 import shutil
 from pathlib import Path
 
+import numpy as np
 import pyarrow.parquet as pq
 
 from bagmcp_bag_store.fleet.backfill import queue_fleet_backfill
@@ -43,6 +45,27 @@ def test_ingest_writes_each_view_with_rows_into_the_index_with_the_views_columns
         assert poses.num_rows == expected_topic_counts("ros1")["/odom"]
         assert set(poses.column("bag").to_pylist()) == {name}
         assert battery.num_rows == 0
+
+
+def test_every_written_file_is_sorted_by_time_with_its_topics_interleaved(served_drive: InProcess) -> None:
+    res = served_drive.composition.embedded.resources
+    timed = [k for k in WRITTEN if "t" in VIEWS[k].names]
+    assert timed == ["poses", "twists", "imu", "gps", "scans", "logs"]
+    for name in DRIVE_NAMES:
+        record = _record(served_drive, name)
+        directory = res.files.index_dir(record)
+        assert directory is not None
+        for kind in timed:
+            table = pq.read_table(directory / file_name(kind))
+            t = table.column("t").to_numpy()
+            assert np.all(np.diff(t) >= 0), (name, kind)
+            topics = np.asarray(table.column("topic").to_pylist())
+            for topic in set(topics):  # each topic's rows keep their order too
+                assert np.all(np.diff(table.column("offset_s").to_numpy()[topics == topic]) >= 0), (name, kind, topic)
+        twists = pq.read_table(directory / file_name("twists")).column("topic").to_pylist()
+        assert set(twists) == {"/odom", "/cmd_vel"}
+        switches = sum(a != b for a, b in itertools.pairwise(twists))
+        assert switches > 100, (name, switches)  # interleaved by time, not one topic after the other
 
 
 def test_a_ready_bag_whose_index_lacks_the_views_gets_them_from_its_index(

@@ -3,11 +3,15 @@ tools; the views resource; refusals that name what to do."""
 
 from __future__ import annotations
 
+import json
+
 import pytest
 from mcp import Client
 
 from bagmcp_bag_store.fleet.views import VIEWS
+from bagmcp_bag_store.settings import DEFAULT_QUERY_LIMITS
 from tests.checks.fleet_checks import check_fleet, check_refusals, query
+from tests.fixtures.drive_bags import expected_topic_counts
 from tests.fixtures.inprocess import InProcess
 from tests.unit.conftest import DRIVE_NAMES
 
@@ -44,3 +48,27 @@ async def test_the_views_resource_gives_every_view_with_its_columns_and_types(se
         assert f"{view.name}: {view.doc}" in text
         for column in view.columns:
             assert f"  {column.name} {column.type}" in text
+
+
+async def test_answers_past_the_row_limit_or_the_byte_budget_are_cut_and_say_so_with_the_total(
+    served_drive: InProcess,
+) -> None:
+    poses = expected_topic_counts("ros1")["/odom"] * len(DRIVE_NAMES)
+    budget = served_drive.composition.embedded.resources.max_result_bytes
+    ordered = "FROM poses ORDER BY bag, t"
+    async with Client(served_drive.gateway(), cache=None) as client:
+        narrow = await query(client, f"SELECT bag, t {ordered}")
+        exact = await query(client, f"SELECT bag, t {ordered} LIMIT {DEFAULT_QUERY_LIMITS.max_rows}")
+        wide = await query(client, f"SELECT * {ordered}")
+        following = await query(client, f"SELECT * {ordered} LIMIT 1 OFFSET {len(wide['rows'])}")
+    limit = DEFAULT_QUERY_LIMITS.max_rows
+    assert (narrow["total_rows"], len(narrow["rows"]), narrow["truncated"]) == (poses, limit, True)
+    assert narrow["rows"] == exact["rows"]  # the first rows, in the query's order
+    assert [row[0] for row in narrow["rows"]] == ["drive"] * limit
+    assert (exact["total_rows"], exact["truncated"]) == (limit, False)
+    assert wide["total_rows"] == poses
+    assert wide["truncated"]
+    assert 0 < len(wide["rows"]) < limit  # the byte budget cut it first
+    used = sum(len(json.dumps(row, separators=(",", ":"))) + 1 for row in wide["rows"])
+    more = len(json.dumps(following["rows"][0], separators=(",", ":"))) + 1
+    assert used <= budget < used + more

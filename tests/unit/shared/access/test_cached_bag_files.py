@@ -12,8 +12,8 @@ import pytest
 
 from bagmcp_shared.access import CachedBagFiles
 from bagmcp_shared.catalog import BagRecord
-from bagmcp_shared.errors import ObjectNotFoundError
-from bagmcp_shared.storage import LocalStore
+from bagmcp_shared.errors import ObjectNotFoundError, StorageError
+from bagmcp_shared.storage import LocalStore, ObjectInfo
 from tests.fixtures.records import stored_record
 
 
@@ -115,3 +115,41 @@ def test_an_entry_removed_by_another_process_is_fetched_again_at_once(tmp_path: 
     shutil.rmtree(tmp_path / "cache" / "gone-soon")  # as another process's eviction would
     assert cache.path_for(record) == path
     assert path.read_bytes() == bytes([9]) * 100
+
+
+class _SlowStore(LocalStore):
+    """A local store whose every put takes ``PUT_S`` (a PUT's round trip), failing for names with ``bad``."""
+
+    PUT_S = 0.2
+
+    def put_file(self, key: str, path: Path) -> ObjectInfo:
+        time.sleep(self.PUT_S)
+        if "bad" in key:
+            raise StorageError(f"cannot put {key}")
+        return super().put_file(key, path)
+
+
+def _built(tmp_path: Path, names: list[str]) -> Path:
+    built = tmp_path / "built"
+    built.mkdir()
+    for name in names:
+        (built / name).write_bytes(name.encode())
+    return built
+
+
+def test_an_index_is_published_with_its_files_put_at_once(tmp_path: Path) -> None:
+    store = _SlowStore(tmp_path / "objects")
+    cache = CachedBagFiles(store, tmp_path / "cache", max_bytes=10_000)
+    names = [f"fleet.v1.view{n}.parquet" for n in range(8)]
+    began = time.monotonic()
+    assert cache.publish_index(stored_record("abcd", "abcd", size=1), _built(tmp_path, names)) == sorted(names)
+    assert time.monotonic() - began < 4 * _SlowStore.PUT_S  # 8 puts one after the other take 8 times
+    for name in names:
+        with store.open_read(f"indexes/abcd/columns/{name}") as stored:
+            assert stored.read() == name.encode()
+
+
+def test_a_failed_put_fails_the_publish(tmp_path: Path) -> None:
+    cache = CachedBagFiles(_SlowStore(tmp_path / "objects"), tmp_path / "cache", max_bytes=10_000)
+    with pytest.raises(StorageError, match=r"bad\.npz"):
+        cache.publish_index(stored_record("abcd", "abcd", size=1), _built(tmp_path, ["a.npz", "bad.npz", "c.npz"]))
