@@ -191,6 +191,7 @@ def test_damaged_uploads_are_refused_clearly_or_listed_with_a_reason_never_a_ser
     stack: Stack, mutants: dict[str, list[Mutant]]
 ) -> None:
     files = [m for kind in ("ros1", "ros1-lz4", "mcap-lz4") for m in mutants[kind][:8]]
+    files += [m for kind in ("ulog", "dataflash", "mcap-json") for m in mutants[kind][:2]]  # the new formats too
     accepted: list[str] = []
     try:
         refused = sum(_upload_refused(stack, mutant, f"fuzz-{n}", accepted) for n, mutant in enumerate(files))

@@ -35,6 +35,13 @@ PER_BAG: tuple[tuple[str, dict[str, Any]], ...] = (
 IMAGE_TYPES = ("sensor_msgs/msg/Image", "sensor_msgs/msg/CompressedImage")
 
 
+def _flight_logs(corpus: Path) -> list[str]:
+    """The bag names of the corpus's flight logs and non-ROS MCAP (this sweep must reach every one)."""
+    found = [*(corpus / "px4_ulog").glob("*.ulg"), *(corpus / "ardupilot").glob("*.bin")]
+    assert len(found) >= 6, found
+    return sorted([p.stem for p in found] + ["mcap_non_ros_profile_data_tamer"])
+
+
 def _explained(tool: str, text: str) -> bool:
     return text.strip() != f"Error executing tool {tool}"
 
@@ -54,7 +61,11 @@ async def test_no_tool_call_on_the_corpus_fails_without_a_reason(corpus: Path, t
                 unexplained.append(f"{label} {tool}")
             assert len(text) < BUDGET_BYTES, (label, tool, len(text))
 
-        for bag in await ingested_bags(client, timeout_s=180):
+        bags = await ingested_bags(client, timeout_s=180)
+        statuses = {b["name"]: b["status"] for b in bags}
+        flights = _flight_logs(corpus)
+        assert {name: statuses.get(name) for name in flights} == dict.fromkeys(flights, "ready")  # none skipped
+        for bag in bags:
             if bag["status"] != "ready":
                 assert bag["error"], bag
                 continue

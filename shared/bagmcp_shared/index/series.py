@@ -43,7 +43,7 @@ class Collector:
         self._getters = [column_getter(reader, msgtype, c) for c in self.names]
         self._times: list[int] = []
         self._headers: list[int] = []
-        self._values: list[list[float | int | str]] = [[] for _ in self.names]
+        self._values: list[list[float | int | str | None]] = [[] for _ in self.names]
 
     def add(self, raw: RawMessage, message: object) -> None:
         row = [getter(message) for getter in self._getters]
@@ -53,9 +53,17 @@ class Collector:
             column.append(value)
 
     def series(self, source: str) -> Series:
-        arrays = {name: np.asarray(column) for name, column in zip(self.names, self._values, strict=True)}
+        arrays = {name: _array(column) for name, column in zip(self.names, self._values, strict=True)}
         times = np.asarray(self._times, dtype=np.int64)
         return Series(times, np.asarray(self._headers, dtype=np.int64), arrays, source)
+
+
+def _array(values: list[float | int | str | None]) -> npt.NDArray[np.generic]:
+    """One column as an array. A number a message lacks (None: JSON's null, which is how JSON writes NaN) is NaN,
+    so the column stays numeric: an array of objects could not be read back from the index."""
+    if None in values and all(v is None or isinstance(v, int | float | np.number) for v in values):
+        return np.asarray([np.nan if v is None else v for v in values], dtype=np.float64)
+    return np.asarray(values)
 
 
 def decode_series(

@@ -4,6 +4,7 @@ gateway over a served folder (which also holds a firmware .bin that is not liste
 from __future__ import annotations
 
 from collections.abc import Iterator
+from pathlib import Path
 
 import pytest
 from mcp import Client
@@ -55,3 +56,15 @@ async def test_plots_draw_and_tools_needing_tf_lidar_or_images_say_why_not(serve
 async def test_filtered_copies_are_json_mcap_that_every_tool_reads(served_flights: InProcess) -> None:
     async with Client(served_flights.gateway(), cache=None) as client:
         await checks.check_filtered_copies(client)
+
+
+async def test_fleet_search_comparisons_and_2d_plots_answer_lidar_and_tf_refuse(served_flights: InProcess) -> None:
+    async with Client(served_flights.gateway(), cache=None) as client:
+        await checks.check_fleet_and_other_plots(client)
+
+
+async def test_cancel_job_on_a_filter_bag_job_leaves_no_half_done_copy(tmp_path: Path) -> None:
+    write_flight_files(tmp_path / "flights")
+    with in_process(tmp_path / "flights", tmp_path / "data", job_budget_s=0.0) as hurried:  # every long call: a job
+        async with Client(hurried.gateway(), cache=None) as client:
+            await checks.check_cancelled_filter(client)

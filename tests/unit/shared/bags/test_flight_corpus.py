@@ -8,12 +8,11 @@ from collections import Counter, defaultdict
 from pathlib import Path
 
 import pytest
-from pymavlink.DFReader import DFReader_binary  # type: ignore[import-untyped]
-from pyulog import ULog  # type: ignore[import-untyped]
 
 from bagmcp_shared.bags import open_bag
 from bagmcp_shared.timebase import iso_from_ns
 from tests.conftest import CORPUS
+from tests.fixtures.corpus_expectations import pymavlink_times, pyulog_counts
 
 pytestmark = pytest.mark.corpus
 ULOGS = sorted(p.name for p in (CORPUS / "px4_ulog").glob("*.ulg"))
@@ -23,17 +22,12 @@ DATAFLASH = ("uob_copter_4.3.6_loiter_rtl_2023-07-06.bin", "dronekit_la_copter_3
 @pytest.mark.parametrize("name", ULOGS)
 def test_ulog_topics_and_counts_are_pyulogs(corpus: Path, name: str) -> None:
     path = corpus / "px4_ulog" / name
-    ulog = ULog(str(path))
-    expected = {
-        d.name if d.multi_id == 0 else f"{d.name}/{d.multi_id}": len(d.data["timestamp"]) for d in ulog.data_list
-    }
-    expected["logged_messages"] = len(ulog.logged_messages) + sum(len(v) for v in ulog.logged_messages_tagged.values())
-    expected["parameters"] = len(ulog.initial_parameters) + len(ulog.changed_parameters)
+    expected, duration_s = pyulog_counts(path)
     with open_bag(path) as bag:
         summary = bag.summary()
         assert bag.decoder.problems == {}
     assert {t.name: t.count for t in summary.topics} == expected
-    assert summary.duration_s == pytest.approx((ulog.last_timestamp - ulog.start_timestamp) / 1e6, abs=1e-6)
+    assert summary.duration_s == pytest.approx(duration_s, abs=1e-6)
 
 
 def test_ulog_times_are_on_gps_utc_where_the_log_has_it(corpus: Path) -> None:
@@ -47,19 +41,10 @@ def test_ulog_times_are_on_gps_utc_where_the_log_has_it(corpus: Path) -> None:
     assert any("appended data" in n for n in no_gps.notes)
 
 
-def _pymavlink_times(path: Path) -> dict[str, list[float]]:
-    reader = DFReader_binary(str(path))
-    times: dict[str, list[float]] = defaultdict(list)
-    while (message := reader.recv_msg()) is not None:
-        times[message.get_type()].append(message._timestamp)
-    reader.close()
-    return times
-
-
 @pytest.mark.parametrize("name", DATAFLASH)
 def test_dataflash_counts_and_every_message_time_are_pymavlinks(corpus: Path, name: str) -> None:
     path = corpus / "ardupilot" / name
-    expected = _pymavlink_times(path)
+    expected = pymavlink_times(path)
     with open_bag(path) as bag:
         summary = bag.summary()
         ours: dict[str, list[float]] = defaultdict(list)
