@@ -96,5 +96,5 @@ async def test_the_corpus_flight_logs_and_data_tamer_mcap_read_the_same_through_
                 elif answer.structured_content and "job" in answer.structured_content:
                     job = await ended(client, answer.structured_content["job"]["job_id"])
                     assert job["state"] == "succeeded" or (job["state"], "\n" in job["error"]) == ("failed", False), job
-        # the stack's time budget (1 s) is shorter than copying the EKF flight's 49,829 messages
-        await check_cancelled_filter(client, EKF, topic=None)
+        # the stack's time budget (1 s) is shorter than copying the EKF flight's 49,829 messages here
+        await check_cancelled_filter(client, EKF, topic=None, need_job=False)
