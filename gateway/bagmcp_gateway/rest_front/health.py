@@ -21,11 +21,12 @@ def readiness_router(tool_catalog: ToolCatalog, metrics: GatewayMetrics, shared_
         """Each upstream, and Redis in team mode, up or down, and the stores a service reports down (S3 for the
         bag-store, as it said at the tool catalog's last look); the reasons go to the gateway's log, not to
         unauthenticated callers."""
-        status = {name: "up" if state.up else "down" for name, state in tool_catalog.states.items()}
+        published = tool_catalog.published  # the states the routes were built from (calls follow those)
+        status = {name: "up" if state.up else "down" for name, state in published.items()}
         for name, up in status.items():
             metrics.upstream_up.labels(name).set(1 if up == "up" else 0)
         redis_up = shared_redis is None or responds_to_ping(shared_redis)
-        stores_down = down_dependencies({name: state.dependencies for name, state in tool_catalog.states.items()})
+        stores_down = down_dependencies({name: state.dependencies for name, state in published.items()})
         ready = all(s == "up" for s in status.values()) and not tool_catalog.conflicts and redis_up and not stores_down
         body: dict[str, object] = {
             "ready": ready,

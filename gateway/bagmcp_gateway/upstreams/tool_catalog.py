@@ -89,6 +89,10 @@ class ToolCatalog:
         self._poll_s = poll_s
         self._retry_s = retry_s
         self.states = {u.name: UpstreamState() for u in upstreams}
+        # the states the routes were last built from: what /readyz reports. A listing round sets each state
+        # as its upstream answers and builds the routes once all have; a readiness read in between said
+        # "ready" while calls still answered "Unknown tool" (seen on a stack's first call after its start)
+        self.published = dict(self.states)
         self.tools: list[types.Tool] = []
         self.routes: dict[str, ToolRoute] = {}
         self.resources = ResourceRoutes()
@@ -193,6 +197,7 @@ class ToolCatalog:
                 self.known[name] = upstream
                 tools.append(exposed)
         self.tools, self.routes, self.conflicts = tools, routes, conflicts
+        self.published = dict(self.states)
         up = [(u, self.states[u.name].resources) for u in self.upstreams if self.states[u.name].up]
         self.resources = ResourceRoutes.build(up)
         self.instructions = merged_instructions([s.instructions for s in self.states.values() if s.up])
