@@ -113,7 +113,7 @@ def _missing(gateway: Gateway, name: str, record: AuditRecord) -> WireResult:
         return error_result(
             f"the {gone.name} service is unavailable right now, so {name} cannot run; try again shortly"
         )
-    down = ", ".join(n for n, state in gateway.tool_catalog.states.items() if not state.up) or "none"
+    down = ", ".join(n for n, state in gateway.tool_catalog.published.items() if not state.up) or "none"
     return error_result(f"Unknown tool: {name} (services unavailable right now: {down})")
 
 

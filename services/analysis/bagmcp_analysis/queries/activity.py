@@ -39,9 +39,9 @@ def _bag_stamps(ob: OpenBag, stats: TopicStats) -> tuple[npt.NDArray[np.int64], 
     length = int(SAMPLE_MESSAGES / stats.rate_hz * 1e9)
     step = max((last - first - length) // (SAMPLE_STRETCHES - 1), 1)
     parts = [stamps_of(ob, stats.name, first + k * step, first + k * step + length) for k in range(SAMPLE_STRETCHES)]
-    if any(headers is None for _, headers, _ in parts):
-        return np.concatenate([times for times, _, _ in parts]), None
-    return np.concatenate([t for t, _, _ in parts]), np.concatenate([h for _, h, _ in parts if h is not None])
+    times = np.concatenate([t for t, _, _ in parts])
+    stamped = [h for _, h, _ in parts if h is not None]
+    return times, np.concatenate(stamped) if len(stamped) == len(parts) else None
 
 
 def _is_late(window: HeaderTiming | None, bag: HeaderTiming | None) -> bool:
