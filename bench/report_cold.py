@@ -104,8 +104,8 @@ def sections(run: RunResult) -> Iterator[str]:
         "process), and the timed cold call on the benchmark bag follows, then the warm calls. Every S3 request "
         "of every process goes through a loopback proxy started by the bench (bench/delay_proxy.py), which counts "
         "the bytes S3 answered (*S3 bytes*: block-cache ranges, whole copies, index files, HEADs, the workers' "
-        "reads); *block-cache bytes* are the services' own `bagmcp_s3_fetched_bytes_total` (/metrics, before and "
-        "after the call; workers have no /metrics)."
+        "reads); *block-cache bytes* are the services' own `bagmcp_s3_fetched_bytes_total` (/metrics, the "
+        "process label service, before and after the call; their workers' sums are not in it)."
     )
     yield ""
     for found in run.cold:

@@ -17,7 +17,7 @@ from pathlib import Path
 import httpx
 
 from tests.fixtures.processes import BIN, wait_until
-from tests.integration.stack import SERVICE_TOKEN, SERVICES, WORKER_FLAGS, Stack
+from tests.integration.stack import SERVICES, WORKER_FLAGS, Stack, service_counters
 
 START_TIMEOUT_S = 120.0
 FETCHED = "bagmcp_s3_fetched_bytes_total"
@@ -73,16 +73,9 @@ class FreshServices:
             proc.wait(timeout=30)
 
     def fetched_bytes(self) -> int:
-        """Bytes the services' block caches fetched from S3 since their start (/metrics; workers have none)."""
-        total = 0
-        for url in self._running.service_urls.values():
-            answer = httpx.get(f"{url}/metrics", headers={"Authorization": f"Bearer {SERVICE_TOKEN}"}, timeout=10)
-            answer.raise_for_status()
-            for line in answer.text.splitlines():
-                name, _, value = line.partition(" ")
-                if name == FETCHED:
-                    total += int(value)
-        return total
+        """Bytes the services' own block caches fetched from S3 since their start (/metrics, process="service";
+        their workers' sums are not counted here)."""
+        return sum(service_counters(url)["service"][FETCHED] for url in self._running.service_urls.values())
 
     def _all_up(self) -> bool:
         for name, proc in self._current.items():

@@ -1,6 +1,8 @@
 """Each tool call's answer says how many bytes its service fetched from the object store for it, in
 ``_meta["bagmcp/fetchedBytes"]`` (absent when nothing was fetched); the gateway puts the figure on the call's
-audit line. Work a worker ran as a job fetched in the worker and is not counted here."""
+audit line. Work a worker ran as a job fetched in the worker: the job records those bytes when it ends
+(jobs/run.py), and they are added to the tally of the call that hands its result back, the long call that
+waited for it (longwork.py) or ``get_job`` (job_tools.py)."""
 
 from __future__ import annotations
 

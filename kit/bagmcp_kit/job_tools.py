@@ -11,8 +11,10 @@ from pydantic import BaseModel, Field
 
 from bagmcp_kit.arguments import STOPS, register
 from bagmcp_kit.declared import GIVEN, Declared, short_specs
+from bagmcp_kit.fetch_meta import fetched_bytes_meta
 from bagmcp_kit.identity import LOCAL_CALLER, caller
 from bagmcp_kit.job_info import JobInfo
+from bagmcp_shared.fetch_tally import count_fetched
 from bagmcp_shared.jobs import JobStore, Progress, owned
 
 
@@ -26,7 +28,10 @@ def _who(ctx: Context, jobs: JobStore) -> dict[str, str]:
 
 
 def get_job(jobs: JobStore, params: JobParams, progress: Progress) -> JobInfo:
-    return JobInfo.of(owned(jobs, params.job_id, params.who))
+    """The job; an ended one's answer names in ``_meta`` the bytes it fetched (each time it is asked for)."""
+    job = owned(jobs, params.job_id, params.who)
+    count_fetched(job.fetched_bytes)
+    return JobInfo.of(job)
 
 
 def cancel_job(jobs: JobStore, params: JobParams, progress: Progress) -> JobInfo:
@@ -64,4 +69,5 @@ def build_jobs_server(jobs: JobStore) -> MCPServer:
     """The jobs MCP server; the gateway (or the embedded command) hosts it next to the services."""
     server = MCPServer("bagmcp-jobs", instructions="Follow and stop the long work other tools started.")
     register(server, short_specs(jobs, (GET_JOB, CANCEL_JOB)))
+    server.middleware.append(fetched_bytes_meta)
     return server

@@ -1,5 +1,7 @@
 """Long work: run it inline when it is small, else start a job and wait for it up to the time budget
-(woken by the job store's notifications, relaying progress), then answer with the result or the job."""
+(woken by the job store's notifications, relaying progress), then answer with the result or the job. A job
+that ended within the budget adds the bytes it fetched (in a worker) to the call's tally, so the answer's
+``_meta`` names them as it names what the service fetched itself (fetch_meta.py)."""
 
 from __future__ import annotations
 
@@ -16,6 +18,7 @@ from pydantic import BaseModel
 from bagmcp_kit.answers import answer, tool_errors
 from bagmcp_kit.identity import caller
 from bagmcp_kit.job_info import JobInfo, LongAnswer
+from bagmcp_shared.fetch_tally import count_fetched
 from bagmcp_shared.jobs import Job, JobKind, JobRegistry, JobStore, Unreported
 from bagmcp_shared.tasks import Runner
 
@@ -54,6 +57,7 @@ class LongWork:
         if raw is not None:
             return await self._finished(kind, raw, summarize, attach)
         job = await self.start(ctx, kind, params)
+        count_fetched(job.fetched_bytes)  # fetched in a worker for this call (0 until the job ends)
         if job.state == "succeeded" and job.result is not None:
             return await self._finished(kind, job.result, summarize, attach)
         return self._unfinished(job)

@@ -24,6 +24,7 @@ from bagmcp_shared.errors import SettingsError
 from bagmcp_shared.settings import HttpSettings
 
 RestGuard = Callable[[Request], Awaitable[None]]  # a REST route dependency: returns, or raises the refusal
+Metrics = Callable[[], Mapping[str, Mapping[str, int] | None]]  # counters by process label (None: unavailable)
 
 
 def new_app(
@@ -65,10 +66,10 @@ def create_service_app(
     statuses: StatusTable = (),
     on_shutdown: Callable[[], None] | None = None,
     checks: Mapping[str, Callable[[], bool]] | None = None,
-    metrics: Callable[[], dict[str, int]] | None = None,
+    metrics: Metrics | None = None,
 ) -> FastAPI:
     """The service as an ASGI app. With ``service_token`` both MCP and REST require it, and /metrics (the
-    counters ``metrics`` gives, in Prometheus' text format) too. ``checks`` name the stores the service needs
+    counters ``metrics`` gives by process, in Prometheus' text format) too. ``checks`` name the stores the service needs
     (``{"s3": ...}``), each True while it answers: ``/readyz`` says each up or down (503 when one is down), and
     the gateway's /readyz repeats it."""
     security = HOST_CHECK_IN_MIDDLEWARE
@@ -106,13 +107,26 @@ def install_readiness(app: FastAPI, checks: Mapping[str, Callable[[], bool]]) ->
         return JSONResponse({"ready": ready, **states}, status_code=200 if ready else 503)
 
 
-def add_metrics_route(app: FastAPI, metrics: Callable[[], dict[str, int]], guard: RestGuard) -> None:
-    """GET /metrics behind ``guard``: every counter as ``# TYPE name counter`` and ``name value``."""
+def add_metrics_route(app: FastAPI, metrics: Metrics, guard: RestGuard) -> None:
+    """GET /metrics behind ``guard``, in Prometheus' text format: per counter ``# TYPE name counter``, then one
+    ``name{process="..."} value`` line per process that has it (``service``: this one; ``workers``: the sum
+    of the service's workers); a process whose counters are unavailable now is a comment saying so."""
 
     @app.get("/metrics", dependencies=[Depends(guard)])
     def exposition() -> PlainTextResponse:
-        lines = [line for name, value in metrics().items() for line in (f"# TYPE {name} counter", f"{name} {value}")]
-        return PlainTextResponse("\n".join(lines) + "\n", media_type="text/plain; version=0.0.4")
+        return PlainTextResponse(exposition_text(metrics()), media_type="text/plain; version=0.0.4")
+
+
+def exposition_text(by_process: Mapping[str, Mapping[str, int] | None]) -> str:
+    """The counters of each process as Prometheus text, one family (TYPE line) per counter name."""
+    names = list(dict.fromkeys(name for counters in by_process.values() for name in counters or {}))
+    lines = [f"# {process} counters unavailable now" for process, counters in by_process.items() if counters is None]
+    for name in names:
+        lines.append(f"# TYPE {name} counter")
+        for process, counters in by_process.items():
+            if counters is not None and name in counters:
+                lines.append(f'{name}{{process="{process}"}} {counters[name]}')
+    return "\n".join(lines) + "\n"
 
 
 def serve(

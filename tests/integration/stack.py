@@ -206,3 +206,18 @@ def new_token(stack: Stack, name: str, *options: str) -> str:
     answer: dict[str, Any] = json.loads(made.stdout)
     assert answer["name"] == name
     return str(answer["token"])
+
+
+def service_counters(url: str) -> dict[str, dict[str, int]]:
+    """A service's /metrics (with the service token) as ``{process: {counter: value}}``: ``service`` for its own
+    process, ``workers`` for the sums of its workers."""
+    answer = httpx.get(f"{url}/metrics", headers={"Authorization": f"Bearer {SERVICE_TOKEN}"}, timeout=10)
+    answer.raise_for_status()
+    counters: dict[str, dict[str, int]] = {}
+    for line in answer.text.splitlines():
+        if line.startswith("#"):
+            continue
+        series, value = line.split(" ")
+        name, _, label = series.partition('{process="')
+        counters.setdefault(label.removesuffix('"}'), {})[name] = int(value)
+    return counters

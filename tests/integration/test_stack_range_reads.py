@@ -14,7 +14,7 @@ from tests.checks.search_checks import finished
 from tests.fixtures.bagfactory import BagKind
 from tests.fixtures.inprocess import copy_bags, in_process
 from tests.fixtures.mcp_client import JsonObject, call, http_client
-from tests.integration.stack import SERVICE_TOKEN, TOKEN, Stack
+from tests.integration.stack import TOKEN, Stack, service_counters
 from tests.integration.test_range_reads import write_padded_db3, write_padded_mcap, write_padded_ros1
 
 pytestmark = pytest.mark.anyio
@@ -108,9 +108,8 @@ async def test_mcap_ros1_and_ros2_answers_by_range_equal_the_embedded_servers(
             assert not (cache / str(bag["id"])).exists()  # no whole copy in the service or any worker
     cache = caches[0]
     assert any((cache / ".blocks" / "blocks").iterdir())
-    metrics = httpx.get(f"{stack.bag_store_url}/metrics", headers={"Authorization": f"Bearer {SERVICE_TOKEN}"})
-    counters = dict(line.split() for line in metrics.text.splitlines() if not line.startswith("#"))
-    assert int(counters["bagmcp_s3_fetched_bytes_total"]) > 0
-    assert int(counters["bagmcp_block_cache_misses_total"]) > 0
-    assert int(counters["bagmcp_block_cache_hits_total"]) > 0
+    counters = service_counters(stack.bag_store_url)["service"]
+    assert counters["bagmcp_s3_fetched_bytes_total"] > 0
+    assert counters["bagmcp_block_cache_misses_total"] > 0
+    assert counters["bagmcp_block_cache_hits_total"] > 0
     assert httpx.get(f"{stack.bag_store_url}/metrics").status_code == 401

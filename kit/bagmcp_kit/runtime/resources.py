@@ -38,6 +38,7 @@ from bagmcp_shared.settings import (
 )
 from bagmcp_shared.storage import LocalStore, ObjectStore, S3Store
 from bagmcp_shared.tasks import Runner, ThreadRunner
+from bagmcp_shared.worker_counters import WorkerSums
 
 log = logging.getLogger(__name__)
 
@@ -58,11 +59,21 @@ class Resources:
     uploads: bool = True
     max_result_bytes: int = 16_000
     job_budget_s: float = 20.0
+    worker_sums: WorkerSums | None = None  # team mode: the counters of this service's workers, in Redis
 
-    def metrics(self) -> dict[str, int]:
-        """This process's counters for /metrics: block cache hits and misses and bytes fetched from S3
-        (none when bags are read from a folder)."""
-        return self.files.blocks.counters.snapshot() if isinstance(self.files, RangedBagFiles) else {}
+    def counters(self) -> dict[str, int]:
+        """This process's counters: block cache hits and misses and bytes fetched from S3 (none when bags are
+        read from a folder)."""
+        return self.files.counters.snapshot() if isinstance(self.files, RangedBagFiles) else {}
+
+    def metrics(self) -> dict[str, dict[str, int] | None]:
+        """For /metrics, by process: ``service`` (this one's counters) and ``workers`` (the sums of this
+        service's workers, each counter 0 until one counts it; None while Redis is unreachable)."""
+        own = self.counters()
+        if self.worker_sums is None:
+            return {"service": own}
+        sums = self.worker_sums.read()
+        return {"service": own, "workers": None if sums is None else {name: sums.get(name, 0) for name in own}}
 
 
 @dataclass(frozen=True)
@@ -153,4 +164,5 @@ def team_resources(settings: TeamSettings, *, queue: str) -> Resources:
         scratch=scratch,
         max_result_bytes=settings.max_result_bytes,
         job_budget_s=settings.job_budget_s,
+        worker_sums=WorkerSums(client, queue),
     )

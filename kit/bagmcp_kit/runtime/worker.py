@@ -1,18 +1,22 @@
-"""A service's Celery worker for its jobs: the task that runs them, bound lazily in the worker process."""
+"""A service's Celery worker for its jobs: the task that runs them, bound lazily in the worker process, and
+the flush of the process's counters into the service's sums when a task ends."""
 
 from __future__ import annotations
 
 import functools
+import threading
 import warnings
 from collections.abc import Callable
 
 from celery import Celery
+from celery.signals import task_postrun
 
 from bagmcp_kit.runtime.celery_app import create_celery
 from bagmcp_kit.runtime.resources import Resources, team_resources
 from bagmcp_shared.jobs import JobRegistry, JobStore, run_job
 from bagmcp_shared.settings import Env, TeamSettings
 from bagmcp_shared.tasks import TaskRef
+from bagmcp_shared.worker_counters import CounterFlush
 
 
 def register_job_task(
@@ -36,4 +40,23 @@ def job_worker(task: TaskRef, build: Callable[[Resources], JobRegistry]) -> tupl
     resources = functools.cache(lambda: team_resources(settings, queue=task.queue))
     registry = functools.cache(lambda: build(resources()))
     register_job_task(app, task, registry, lambda: resources().job_store)
+    flush_counters_after_tasks(app, lambda: resources() if resources.cache_info().currsize else None)
     return app, resources
+
+
+def flush_counters_after_tasks(app: Celery, built: Callable[[], Resources | None]) -> None:
+    """When a task of ``app`` ends, add what this worker process counted since its last flush to the service's
+    sums in Redis (its /metrics shows them; worker_counters.py); nothing while ``built`` (the process's resources
+    once built) is None. One flush per task end: an HINCRBY per changed counter in one round trip."""
+    flushes: list[CounterFlush] = []
+    first = threading.Lock()
+
+    def flushed(sender: object = None, **_: object) -> None:
+        if getattr(sender, "app", None) is not app or (resources := built()) is None or resources.worker_sums is None:
+            return
+        with first:  # one flush state per process, also when a pool of threads ends its first tasks at once
+            if not flushes:
+                flushes.append(CounterFlush(resources.worker_sums, resources.counters))
+        flushes[0].flush()
+
+    task_postrun.connect(flushed, weak=False)

@@ -31,12 +31,15 @@ LOW_WATER = 0.9  # an eviction frees down to this share of the bound, so it is n
 
 @dataclass
 class BlockCounters:
-    """What this process's block cache did since start (the benchmark and tests read them)."""
+    """What this process's block cache did since start (the benchmark and tests read them); ``whole_bytes``
+    are the bytes of objects fetched whole beside it (index files, whole copies: ``CachedBagFiles``), so
+    the two S3 byte counters together are all this process fetched."""
 
     hits: int = 0
     misses: int = 0
     fetched_bytes: int = 0
     evicted_blocks: int = 0
+    whole_bytes: int = 0
     _lock: threading.Lock = field(default_factory=threading.Lock, repr=False, compare=False)
 
     def snapshot(self) -> dict[str, int]:
@@ -47,14 +50,18 @@ class BlockCounters:
                 "bagmcp_block_cache_misses_total": self.misses,
                 "bagmcp_s3_fetched_bytes_total": self.fetched_bytes,
                 "bagmcp_block_cache_evicted_blocks_total": self.evicted_blocks,
+                "bagmcp_s3_whole_object_bytes_total": self.whole_bytes,
             }
 
-    def add(self, *, hits: int = 0, misses: int = 0, fetched_bytes: int = 0, evicted: int = 0) -> None:
+    def add(
+        self, *, hits: int = 0, misses: int = 0, fetched_bytes: int = 0, evicted: int = 0, whole_bytes: int = 0
+    ) -> None:
         with self._lock:
             self.hits += hits
             self.misses += misses
             self.fetched_bytes += fetched_bytes
             self.evicted_blocks += evicted
+            self.whole_bytes += whole_bytes
 
 
 def object_id(bucket: str, key: str, etag: str) -> str:

@@ -16,6 +16,7 @@ from pathlib import Path
 from typing import Protocol
 
 from bagmcp_shared import keys
+from bagmcp_shared.access.blocks import BlockCounters
 from bagmcp_shared.access.parts import BagPart, local_parts
 from bagmcp_shared.bags import BagReader, open_bag
 from bagmcp_shared.catalog.models import BagRecord
@@ -106,9 +107,19 @@ class CachedBagFiles:
     An entry this process checked and marked used less than a quarter of ``min_idle_s`` ago is
     served without the lock (no process evicts it before ``min_idle_s`` of disuse), so repeated
     questions about a bag cost a dictionary lookup and a stat, not a lock and a directory scan.
+    The bytes fetched whole are counted in ``counters`` (``whole_bytes``, for /metrics).
     """
 
-    def __init__(self, store: ObjectStore, cache_dir: Path, *, max_bytes: int, min_idle_s: float = 60.0) -> None:
+    def __init__(
+        self,
+        store: ObjectStore,
+        cache_dir: Path,
+        *,
+        max_bytes: int,
+        min_idle_s: float = 60.0,
+        counters: BlockCounters | None = None,
+    ) -> None:
+        self.counters = counters if counters is not None else BlockCounters()
         self._store = store
         self._dir = cache_dir
         self._max_bytes = max_bytes
@@ -211,7 +222,9 @@ class CachedBagFiles:
             targets = [partial / key.rsplit("/", 1)[-1] for key in wanted]
             with ThreadPoolExecutor(max_workers=max(1, min(FETCHES_AT_ONCE, len(wanted)))) as pool:
                 list(pool.map(self._store.download_to, wanted, targets))  # the first failure is raised here
-            count_fetched(sum(target.stat().st_size for target in targets))
+            fetched = sum(target.stat().st_size for target in targets)
+            count_fetched(fetched)
+            self.counters.add(whole_bytes=fetched)
             shutil.rmtree(root, ignore_errors=True)
             partial.rename(root)
             (root / _COMPLETE).touch()

@@ -41,12 +41,12 @@ class RangedBagFiles(CachedBagFiles):
     ``blocks``."""
 
     def __init__(self, store: RemoteStore, cache_dir: Path, *, max_bytes: int, reads: RangeReads) -> None:
-        super().__init__(store, cache_dir, max_bytes=max_bytes)
-        self._ranges = store
-        self._read_ahead = reads.read_ahead_bytes
         self.blocks = BlockCache(
             cache_dir / ".blocks", block_bytes=reads.block_bytes, max_bytes=reads.cache_bytes
         )  # a dot name: the whole-copy cache neither counts nor evicts it
+        super().__init__(store, cache_dir, max_bytes=max_bytes, counters=self.blocks.counters)
+        self._ranges = store
+        self._read_ahead = reads.read_ahead_bytes
 
     def reader_for(self, record: BagRecord) -> tuple[Path, Callable[[], BagReader]]:
         """By range when the bag's format reads so (ingest too: the format of a bag not yet ingested comes

@@ -13,7 +13,8 @@ TERMINAL: frozenset[str] = frozenset({"succeeded", "failed", "cancelled"})
 
 
 class Job(BaseModel):
-    """The stored record. ``params`` and ``result`` are the JSON of the kind's typed models."""
+    """The stored record. ``params`` and ``result`` are the JSON of the kind's typed models; ``fetched_bytes``
+    what the job fetched from the object store, set when it ended (the call's answer names it)."""
 
     id: str
     kind: str
@@ -25,6 +26,7 @@ class Job(BaseModel):
     result: dict[str, JsonValue] | None = None
     error: str | None = None
     cancel_requested: bool = False
+    fetched_bytes: int = 0
     created_at: float
     updated_at: float
 
