@@ -1,77 +1,50 @@
 """Answers across the real recordings (../shared/data/bags, every readable format) agree with the per-bag
-tools: topic counts with bag_info, TF edges with get_tf_tree, ERROR-or-worse counts with analyze_logs, and
-each pose topic's rows and top speed with analyze_trajectory (PX4 local positions included)."""
+tools in both ways of running: the embedded server over the corpus folder, and the distributed stack (real
+weed S3, Redis and Celery workers) with every bag the embedded server lists as ready uploaded to it. The
+checks are tests/checks/fleet_corpus_checks.py's, the same for both."""
 
 from __future__ import annotations
 
-import math
+from collections.abc import Iterator
 from pathlib import Path
-from typing import Any
 
 import pytest
 from mcp import Client
 
-from bagmcp_cli.embedded import compose
-from bagmcp_cli.settings import EmbeddedSettings
-from bagmcp_gateway.mcp_front.aggregator import build_gateway_server
-from bagmcp_shared.index import RECORD_TYPES
-from tests.checks.fleet_checks import long, query
-from tests.fixtures.mcp_client import call, ingested_bags
+from tests.checks.fleet_corpus_checks import check_corpus
+from tests.fixtures.inprocess import InProcess, in_process
+from tests.fixtures.mcp_client import http_client, ingested_bags
+from tests.integration.stack import TOKEN, Stack
 
 pytestmark = [pytest.mark.anyio, pytest.mark.corpus]
-LOG_TYPES = tuple(sorted(RECORD_TYPES))  # ROS logs and flight-log texts
 
 
-async def _rows(client: Client, sql: str) -> list[list[Any]]:
-    """Every row of a query (its answer must not be cut: the checks below keep their answers small)."""
-    answer = await query(client, sql)
-    assert not answer["truncated"], sql
-    return list(answer["rows"])
+@pytest.fixture(scope="module")
+def served(corpus: Path, tmp_path_factory: pytest.TempPathFactory) -> Iterator[InProcess]:
+    """The embedded server over the corpus, every bag ingested (about 40 s on a shared 2-core machine)."""
+    with in_process(corpus, tmp_path_factory.mktemp("fleet-corpus"), timeout_s=300) as services:
+        yield services
 
 
-async def _check_topics_and_tf(client: Client, bags: list[dict[str, Any]]) -> None:
-    for bag in bags:
-        name = bag["name"]
-        info = await call(client, "bag_info", bag=name)
-        counts = await _rows(client, f"SELECT topic, count FROM topics WHERE bag = '{name}'")
-        assert dict(map(tuple, counts)) == {t["name"]: t["count"] for t in info["topics"]}, name
-        if any(t["type"] in ("tf2_msgs/msg/TFMessage", "tf/msg/tfMessage") for t in info["topics"]):
-            tree = await long(client, "get_tf_tree", bag=name)
-            edges = await _rows(client, f"SELECT parent, child, static, count FROM tf_edges WHERE bag = '{name}'")
-            wanted = {(e["parent"], e["child"], e["static"]): e["count"] for e in tree["edges"]}
-            assert {(p, c, s): n for p, c, s, n in edges} == wanted, name
+def _ready(served: InProcess, corpus: Path) -> dict[str, Path]:
+    """The bags the embedded server has ready, by name, with their file or ROS 2 directory in the corpus."""
+    records = served.composition.embedded.resources.catalog.all()
+    return {r.name: corpus / r.source for r in records if r.status == "ready"}
 
 
-async def _check_logs_and_poses(client: Client) -> None:
-    errors = dict(map(tuple, await _rows(client, "SELECT bag, count(*) FROM logs WHERE level_rank >= 3 GROUP BY bag")))
-    poses = await _rows(client, "SELECT bag, topic, count(*), max(speed) FROM poses GROUP BY ALL")
-    logged = await _rows(client, f"SELECT DISTINCT bag FROM topics WHERE count > 0 AND type IN {LOG_TYPES}")
-    assert len(logged) >= 3
-    for (name,) in logged:
-        logs = await long(client, "analyze_logs", bag=name, min_level="ERROR", limit=1)
-        assert errors.get(name, 0) == logs["total"], name
-    checked = 0
-    for name, topic, rows, top in poses:
-        trajectory = await long(client, "analyze_trajectory", bag=name, topic=topic)
-        assert rows == trajectory["samples"], (name, topic)
-        if trajectory["max_speed_mps"] is not None:
-            assert top >= trajectory["max_speed_mps"] * 0.999 or math.isclose(
-                top, trajectory["max_speed_mps"], rel_tol=0.05
-            )
-            checked += 1
-    assert checked >= 3  # the corpus holds odometry of several robots
-    assert any("local_position" in str(topic) for _, topic, _, _ in poses)  # and PX4 flights
+async def test_answers_across_the_corpus_agree_with_the_per_bag_tools(served: InProcess, corpus: Path) -> None:
+    async with Client(served.gateway(), cache=None) as client:
+        names = [b["name"] for b in await ingested_bags(client) if b["status"] == "ready"]
+        assert sorted(names) == sorted(_ready(served, corpus))
+        assert len(names) >= 10
+        await check_corpus(client, names)
 
 
-async def test_answers_across_the_corpus_agree_with_the_per_bag_tools(corpus: Path, tmp_path: Path) -> None:
-    composition = compose(EmbeddedSettings(corpus, tmp_path / "data"))
-    try:
-        async with Client(build_gateway_server(composition.upstreams), cache=None) as client:
-            bags = [b for b in await ingested_bags(client, timeout_s=300) if b["status"] == "ready"]
-            assert len(bags) >= 10
-            total = await query(client, "SELECT count(*) FROM bags")
-            assert total["rows"][0][0] == len(bags)
-            await _check_topics_and_tf(client, bags)
-            await _check_logs_and_poses(client)
-    finally:
-        composition.embedded.runner.shutdown()
+async def test_the_stack_answers_across_the_uploaded_corpus_like_the_per_bag_tools(
+    stack: Stack, served: InProcess, corpus: Path
+) -> None:
+    # a bag another test uploaded already (same content) answers under the name it has there
+    names = [str(stack.upload_ok(path, name=name)["name"]) for name, path in _ready(served, corpus).items()]
+    await stack.wait_ready(names, timeout_s=300)
+    async with http_client(f"{stack.url}/mcp", TOKEN) as client:
+        await check_corpus(client, names)

@@ -88,7 +88,7 @@ class Ros1RangeSource(ListedSource):
         self._by_id = {c.id: c for c in self._connections}
         if (hint := getattr(stream, "hint_records", None)) is not None:  # a chunk ends where the next starts
             starts = sorted(span.pos for span in self._chunks)
-            hint(list(zip(starts, [*starts[1:], self._index_pos], strict=True)))
+            hint(list(zip(starts, [*starts[1:], self._index_pos][: len(starts)], strict=True)))  # none: no chunk
         self._bounds: dict[int, tuple[int, int] | None] = {}
         self._compression: Compression | None = None
 

@@ -52,18 +52,27 @@ def _table(kind: str, bag: IngestedBag, rows: list[Arrays]) -> pa.Table:
     """The rows (one dict of equal-length columns per topic) as the view's table, with the bag's columns,
     sorted by time (``t``) when the view has it: the topics interleave (a stable sort keeps each topic's own
     order among equal times), so a file's row groups cover increasing times and readers can skip by time.
-    NaN becomes NULL, so max() and comparisons skip unknown values (DuckDB sorts NaN above every number)."""
-    schema = VIEWS[kind].schema
-    tables = [schema.empty_table()]
+    NaN becomes NULL, so max() and comparisons skip unknown values (DuckDB sorts NaN above every number).
+    A view without rows is the view's one empty table, and one topic already in time order is not sorted
+    (the same rows; on 10 s drives these took 1 of the 7 ms a bag's views cost)."""
+    view = VIEWS[kind]
+    if not rows:
+        return view.empty
+    tables = []
     for part in rows:
         count = len(next(iter(part.values())))
         named = {"bag": [bag.record.name] * count, "bag_id": [bag.record.id] * count, **part}
-        arrays = [pa.array(named[f.name], type=f.type, from_pandas=True) for f in schema]
-        tables.append(pa.Table.from_arrays(arrays, schema=schema))
-    table = pa.concat_tables(tables)
-    if "t" in schema.names and table.num_rows > 1:
+        arrays = [pa.array(named[f.name], type=f.type, from_pandas=True) for f in view.schema]
+        tables.append(pa.Table.from_arrays(arrays, schema=view.schema))
+    table = tables[0] if len(tables) == 1 else pa.concat_tables(tables)
+    if "t" in view.schema.names and table.num_rows > 1 and not (len(rows) == 1 and _ascending(rows[0]["t"])):
         table = table.sort_by("t")
     return table
+
+
+def _ascending(t: npt.NDArray[np.generic] | Sequence[object]) -> bool:
+    times = np.asarray(t, dtype=np.float64)
+    return bool(np.all(times[1:] >= times[:-1]))
 
 
 def _timed(bag: IngestedBag, topic: str, t_ns: npt.NDArray[np.int64], values: Arrays) -> Arrays:

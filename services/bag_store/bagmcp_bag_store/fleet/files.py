@@ -48,11 +48,20 @@ def has_views(record: BagRecord) -> bool:
     return file_name(MARKER) in record.index_files
 
 
+SMALL_ROWS = 32  # a table this short is written plain: a smaller file, encoded in 0.3 ms instead of 0.5
+
+
 def parquet_bytes(table: pa.Table) -> bytes:
     """``table`` as a Parquet file: zstd, dictionaries for text columns only (bag, topic and level names
     repeat; numbers rarely do), row groups of 64k rows with statistics, so readers can skip by time. Encoded
-    in memory: pyarrow opening a local file for the writer took 14 ms a file under load, a plain write 1 ms."""
+    in memory: pyarrow opening a local file for the writer took 14 ms a file under load, a plain write 1 ms.
+    A table of at most ``SMALL_ROWS`` rows (a bag's row, a short bag's topics, logs or TF edges) has nothing
+    to gain from compression, dictionaries or statistics: its file is written without them (2.2 KB instead
+    of 3.5 KB for a one-row logs table)."""
     sink = io.BytesIO()
+    if table.num_rows <= SMALL_ROWS:
+        pq.write_table(table, sink, compression="none", use_dictionary=False, write_statistics=False)
+        return sink.getvalue()
     text = [f.name for f in table.schema if pa.types.is_string(f.type)]
     pq.write_table(table, sink, compression="zstd", row_group_size=65_536, use_dictionary=text)
     return sink.getvalue()
@@ -83,7 +92,7 @@ class FleetFiles:
             return None
         name = file_name(kind)
         if name not in record.index_files:
-            return VIEWS[kind].schema.empty_table()
+            return VIEWS[kind].empty
         try:
             with self._store.open_read(keys.index_file(record.id, name)) as stream:
                 return pq.read_table(pa.BufferReader(stream.read()))

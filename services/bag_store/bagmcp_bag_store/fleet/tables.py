@@ -65,7 +65,7 @@ class FleetTables:
             if remembered is not None and remembered[0] == key and not remembered[1].missing:
                 return remembered[1]
         parts, missing = self._parts(kind, bags, progress)
-        joined = Joined(pa.concat_tables([VIEWS[kind].schema.empty_table(), *parts]), missing)
+        joined = Joined(pa.concat_tables([VIEWS[kind].empty, *parts]), missing)
         with self._lock:
             self._joined[kind] = (key, joined)
         return joined

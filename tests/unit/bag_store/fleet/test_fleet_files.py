@@ -6,13 +6,16 @@ from __future__ import annotations
 
 import itertools
 import shutil
+from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
+import pyarrow as pa
 import pyarrow.parquet as pq
+import pytest
 
 from bagmcp_bag_store.fleet.backfill import queue_fleet_backfill
-from bagmcp_bag_store.fleet.files import FleetFiles, file_name, has_views
+from bagmcp_bag_store.fleet.files import SMALL_ROWS, FleetFiles, file_name, has_views, parquet_bytes
 from bagmcp_bag_store.fleet.views import VIEWS
 from bagmcp_bag_store.ingest.ingest import Ingestor
 from bagmcp_shared.catalog import BagRecord
@@ -89,3 +92,27 @@ def test_a_ready_bag_whose_index_lacks_the_views_gets_them_from_its_index(
     assert scans is not None
     assert scans.num_rows == expected_topic_counts("ros2-mcap")["/scan"]
     assert queue_fleet_backfill(res.catalog, queued.append) == []
+
+
+def _filled(kind: str, rows: int) -> pa.Table:
+    """``rows`` rows of a view, with a NULL number and an empty list among them."""
+    values: dict[pa.DataType, Callable[[int], object]] = {
+        pa.string(): lambda i: f"text{i % 3}",
+        pa.float64(): lambda i: None if i == 1 else i / 7,
+        pa.int64(): lambda i: i,
+        pa.bool_(): lambda i: i % 2 == 0,
+        pa.list_(pa.string()): lambda i: [f"tag{i}"] * (i % 2),
+    }
+    schema = VIEWS[kind].schema
+    return pa.table({f.name: [values[f.type](i) for i in range(rows)] for f in schema}, schema=schema)
+
+
+@pytest.mark.parametrize("rows", [0, 1, SMALL_ROWS, SMALL_ROWS + 1, 5000])
+@pytest.mark.parametrize("kind", ["bags", "poses", "logs", "tf_edges"])
+def test_short_tables_written_plain_and_long_ones_compressed_read_back_the_same(kind: str, rows: int) -> None:
+    table = _filled(kind, rows)
+    encoded = parquet_bytes(table)
+    assert pq.read_table(pa.BufferReader(encoded)).equals(table)
+    if rows:
+        codec = pq.ParquetFile(pa.BufferReader(encoded)).metadata.row_group(0).column(0).compression
+        assert codec == ("UNCOMPRESSED" if rows <= SMALL_ROWS else "ZSTD")
