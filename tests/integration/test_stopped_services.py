@@ -19,7 +19,7 @@ import pytest
 from tests.fixtures.bagfactory import write_chatter_bag
 from tests.fixtures.faults import TOKEN, FaultStack, redis_server, weed_server
 from tests.fixtures.mcp_client import call, call_error, http_client
-from tests.fixtures.processes import wait_until
+from tests.fixtures.processes import HTTP, wait_until
 from tests.fixtures.restartable import Restartable
 from tests.fixtures.servers import free_ports, remove_weed_sockets
 
@@ -65,7 +65,7 @@ def waiting_stack(shared_stack: FaultStack) -> Iterator[FaultStack]:
         if part.process is None:
             part.start()
     readyz = f"{shared_stack.url}/readyz"
-    wait_until(lambda: httpx.get(readyz, timeout=10).status_code == 200, timeout_s=30, what="ready", interval_s=0.05)
+    wait_until(lambda: HTTP.get(readyz, timeout=10).status_code == 200, timeout_s=30, what="ready", interval_s=0.05)
     for bag in shared_stack.rest("GET", "bags", params={"limit": 500}).json()["bags"]:
         assert shared_stack.rest("DELETE", f"bags/{bag['id']}").status_code == 204
 
@@ -113,7 +113,7 @@ async def test_a_call_right_after_its_service_came_back_runs(waiting_stack: Faul
         assert "the bag-store service is unavailable right now" in text
         await anyio.to_thread.run_sync(
             lambda: wait_until(
-                lambda: httpx.get(readyz, timeout=10).status_code == 503, timeout_s=30, what="down", interval_s=0.05
+                lambda: HTTP.get(readyz, timeout=10).status_code == 503, timeout_s=30, what="down", interval_s=0.05
             )
         )
         await anyio.to_thread.run_sync(bag_store.start)
@@ -127,7 +127,7 @@ def test_readyz_says_not_ready_naming_s3_while_it_is_down(waiting_stack: FaultSt
     waiting_stack.s3_server.stop(timeout_s=15)
     try:
         wait_until(
-            lambda: httpx.get(readyz, timeout=10).status_code == 503, timeout_s=30, what="not ready", interval_s=0.05
+            lambda: HTTP.get(readyz, timeout=10).status_code == 503, timeout_s=30, what="not ready", interval_s=0.05
         )
         body = httpx.get(readyz, timeout=10).json()
         assert body["stores_down"] == {"bag-store": ["s3"]}
@@ -135,5 +135,5 @@ def test_readyz_says_not_ready_naming_s3_while_it_is_down(waiting_stack: FaultSt
     finally:
         waiting_stack.s3_server.start()
     wait_until(
-        lambda: httpx.get(readyz, timeout=10).status_code == 200, timeout_s=30, what="ready again", interval_s=0.05
+        lambda: HTTP.get(readyz, timeout=10).status_code == 200, timeout_s=30, what="ready again", interval_s=0.05
     )
