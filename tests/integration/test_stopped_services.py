@@ -44,7 +44,7 @@ def shared_stack(tmp_path_factory: pytest.TempPathFactory) -> Iterator[FaultStac
         stack = FaultStack(work, endpoint, "stopped", f"redis://127.0.0.1:{redis_port}/0", redis, s3_server)
         exits.callback(remove_weed_sockets, sockets)
         for part in (redis, s3_server):
-            exits.callback(part.stop, timeout_s=5)
+            exits.callback(part.stop, timeout_s=min(5, part.grace_s))
             part.start()
         service = stack.start_service("bag-store", bag_store_port, env={"BAGMCP_JOB_BUDGET_S": str(CALL_BUDGET_S)})
         exits.callback(service.stop, timeout_s=5)
@@ -124,7 +124,7 @@ async def test_a_call_right_after_its_service_came_back_runs(waiting_stack: Faul
 def test_readyz_says_not_ready_naming_s3_while_it_is_down(waiting_stack: FaultStack) -> None:
     readyz = f"{waiting_stack.url}/readyz"
     assert httpx.get(readyz, timeout=10).status_code == 200
-    waiting_stack.s3_server.stop(timeout_s=15)
+    waiting_stack.s3_server.stop()
     try:
         wait_until(
             lambda: HTTP.get(readyz, timeout=10).status_code == 503, timeout_s=30, what="not ready", interval_s=0.05
