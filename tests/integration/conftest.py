@@ -8,11 +8,10 @@ from pathlib import Path
 from typing import Any
 
 import anyio
-import httpx
 import pytest
 
 from tests.fixtures.bagfactory import BagKind, write_chatter_bag, write_transform_bag
-from tests.fixtures.processes import wait_until
+from tests.fixtures.processes import HTTP, wait_until
 from tests.fixtures.servers import S3Endpoint
 from tests.integration.stack import TOKEN, Stack, start_stack
 
@@ -52,7 +51,7 @@ def poses_tf(stack: Stack, tmp_path_factory: pytest.TempPathFactory) -> str:
 
 
 def _all_ready(stack: Stack) -> bool:
-    listing = httpx.get(f"{stack.url}/api/v1/bags", params={"limit": 500}, headers={"Authorization": f"Bearer {TOKEN}"})
+    listing = HTTP.get(f"{stack.url}/api/v1/bags", params={"limit": 500}, headers={"Authorization": f"Bearer {TOKEN}"})
     return all(b["status"] != "ingesting" for b in listing.json()["bags"])
 
 

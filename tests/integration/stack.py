@@ -19,7 +19,7 @@ from minio import Minio
 
 from bagmcp_shared.jobs.store import RedisJobStore
 from tests.fixtures.mcp_client import call, http_client
-from tests.fixtures.processes import BIN, http_ok, scratch_leftovers, service
+from tests.fixtures.processes import BIN, HTTP, http_ok, scratch_leftovers, service
 from tests.fixtures.servers import S3Endpoint, free_port, free_ports
 
 TOKEN = "test-client-token"
@@ -86,7 +86,7 @@ class Stack:
     def rest(self, method: str, path: str, **options: Any) -> httpx.Response:
         """A REST call to the gateway with the test token (``path`` under /api/v1)."""
         headers = {"Authorization": f"Bearer {TOKEN}", **options.pop("headers", {})}
-        return httpx.request(method, f"{self.url}/api/v1/{path}", headers=headers, timeout=120, **options)
+        return HTTP.request(method, f"{self.url}/api/v1/{path}", headers=headers, timeout=120, **options)
 
     def bags(self) -> dict[str, dict[str, Any]]:
         """Every listed bag by name."""

@@ -12,6 +12,7 @@ from pathlib import Path
 
 import pytest
 
+from bagmcp_bag_store.ingest import rebuild
 from bagmcp_bag_store.ingest.rebuild import restore_lost_catalog
 from bagmcp_shared import keys
 from bagmcp_shared.catalog import MemoryCatalog
@@ -25,7 +26,12 @@ pytestmark = pytest.mark.integration
 BAG_ID = "0123456789abcdef0123456789abcdef"
 
 
-def test_the_restore_waits_for_a_starting_object_store(tmp_path: Path, caplog: pytest.LogCaptureFixture) -> None:
+def test_the_restore_waits_for_a_starting_object_store(
+    tmp_path: Path, caplog: pytest.LogCaptureFixture, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    # pauses of 0.5 s, then 1 s: the doubling up to 8 s overshot weed's start by up to 8 s (what the test checks
+    # is the waiting, not the schedule)
+    monkeypatch.setattr(rebuild, "LONGEST_PAUSE_S", 1.0)
     server, endpoint, ports = weed_server(tmp_path)
     try:
         server.start()
@@ -51,5 +57,5 @@ def test_the_restore_waits_for_a_starting_object_store(tmp_path: Path, caplog: p
         waiting = [r.message for r in caplog.records if "not ready for the catalog check" in r.message]
         assert len(waiting) == 1
     finally:
-        server.stop(timeout_s=5)
+        server.stop()
         remove_weed_sockets(ports)

@@ -35,7 +35,7 @@ from tests.fixtures.faults import (
 )
 from tests.fixtures.heavy_bags import write_odometry_bag
 from tests.fixtures.mcp_client import call, call_error, http_client
-from tests.fixtures.processes import BIN, wait_until
+from tests.fixtures.processes import BIN, HTTP, wait_until
 from tests.fixtures.restartable import Restartable
 
 pytestmark = pytest.mark.anyio
@@ -159,7 +159,7 @@ async def test_redis_stopped_under_calls_gives_clear_errors_and_everything_recov
         assert "Redis" in _upload_refused(faults, small)
     finally:
         faults.redis.start()
-    wait_until(lambda: httpx.get(f"{faults.url}/readyz").status_code == 200, timeout_s=30, what="ready again")
+    wait_until(lambda: HTTP.get(f"{faults.url}/readyz").status_code == 200, timeout_s=30, what="ready again")
     async with http_client(f"{faults.url}/mcp", TOKEN) as client:
         assert {b["name"] for b in (await call(client, "list_bags", limit=500))["bags"]} == before
     _upload(faults, small)
@@ -215,7 +215,7 @@ def test_the_bag_store_killed_mid_upload_comes_back_clean_and_the_gateway_follow
     else:
         assert answer.status_code == 503, answer.text  # the gateway says the bag-store went away
     bag_store.restart()
-    wait_until(lambda: httpx.get(f"{faults.url}/readyz").status_code == 200, timeout_s=30, what="the gateway")
+    wait_until(lambda: HTTP.get(f"{faults.url}/readyz").status_code == 200, timeout_s=30, what="the gateway")
     assert faults.objects() == objects
     _upload(faults, bag)
     assert settle(faults, timeout_s=SETTLE_S).bags["odom_bag_store_killed"] == ("ready", None)

@@ -16,9 +16,9 @@ import httpx
 import pytest
 import redis
 
-from bagmcp_cli.stack.environment import WEED_PORTS
+from bagmcp_cli.stack.environment import DEFAULT_PORTS, SAVED, WEED_PORTS, ports_free, write_saved
 from tests.fixtures.bagfactory import BagKind, write_chatter_bag
-from tests.fixtures.make_stack import TOKEN, MakeStack, processes_of
+from tests.fixtures.make_stack import TOKEN, MakeStack, default_ports_lock, processes_of
 from tests.fixtures.processes import http_ok, wait_until
 from tests.fixtures.servers import weed_grpc_refuses
 
@@ -81,15 +81,22 @@ def test_a_process_that_dies_is_restarted_and_the_stack_keeps_answering(stack_a:
 
 
 def test_two_stacks_run_side_by_side_on_different_ports(stack_a: MakeStack, tmp_path: Path) -> None:
-    stack_b = MakeStack(tmp_path / "b")
-    stack_b.start()
-    try:
-        assert not stack_a.ports() & stack_b.ports()
-        assert stack_b.settings["BAGMCP_SERVICE_TOKEN"] != stack_a.settings["BAGMCP_SERVICE_TOKEN"]
-        assert stack_b.bags() == {}
-        assert "scenario_mcap" in stack_a.bags()
-    finally:
-        stack_b.stop()
+    """The second directory was copied from the first (its saved ports are the first's, taken): the second stack
+    starts on the default ports where they are free, else on free ones, with its own secrets and bags."""
+    stack_b = MakeStack(tmp_path / "b", default_ports=True)
+    stack_b.directory.mkdir(mode=0o700)
+    write_saved(stack_b.directory / SAVED, {name: stack_a.settings[name] for name in DEFAULT_PORTS})
+    with default_ports_lock():
+        free = {name: port for name, port in DEFAULT_PORTS.items() if ports_free(name, port, set())}
+        stack_b.start()
+        try:
+            assert not stack_a.ports() & stack_b.ports()
+            assert {name: int(stack_b.settings[name]) for name in free} == free
+            assert stack_b.settings["BAGMCP_SERVICE_TOKEN"] != stack_a.settings["BAGMCP_SERVICE_TOKEN"]
+            assert stack_b.bags() == {}
+            assert "scenario_mcap" in stack_a.bags()
+        finally:
+            stack_b.stop()
     assert http_ok(f"{stack_a.url}/readyz")()
 
 

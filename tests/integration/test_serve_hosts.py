@@ -14,7 +14,7 @@ import pytest
 from tests.fixtures.bagfactory import BagKind
 from tests.fixtures.inprocess import copy_bags
 from tests.fixtures.mcp_client import INITIALIZE, MCP_HEADERS
-from tests.fixtures.processes import BIN, http_ok, service, wait_until
+from tests.fixtures.processes import BIN, HTTP, http_ok, service, wait_until
 from tests.fixtures.servers import free_port
 
 
@@ -33,7 +33,7 @@ def loopback(folder: Path, tmp_path_factory: pytest.TempPathFactory) -> Iterator
     port, work = free_port(), tmp_path_factory.mktemp("serve")
     url = f"http://127.0.0.1:{port}"
     with service("serve-loopback", _serve(folder, port, work), env={}, log_dir=work, ready=http_ok(f"{url}/healthz")):
-        ready = lambda: httpx.get(f"{url}/api/v1/bags/scenario").json()["status"] == "ready"  # noqa: E731
+        ready = lambda: HTTP.get(f"{url}/api/v1/bags/scenario").json()["status"] == "ready"  # noqa: E731
         wait_until(ready, timeout_s=60, what="ingest")
         yield url
 

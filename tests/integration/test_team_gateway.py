@@ -282,7 +282,9 @@ async def test_a_stopped_upstream_leaves_the_list_and_comes_back_and_clients_are
             async for event in subscription:
                 events.append(type(event).__name__)
 
-    analysis = service("analysis-flaky", command, env=env, log_dir=tmp_path, ready=http_ok(f"{analysis_url}/healthz"))
+    # on SIGTERM uvicorn waits for the gateway's open requests to end; it was killed at the 10 s default each time
+    answering = http_ok(f"{analysis_url}/healthz")
+    analysis = service("analysis-flaky", command, env=env, log_dir=tmp_path, ready=answering, stop_timeout_s=2)
     analysis.__enter__()
     with run_gateway(stack, "gateway-flaky", port, {"BAGMCP_UPSTREAMS": upstreams}):
         url = f"http://127.0.0.1:{port}"
@@ -299,7 +301,7 @@ async def test_a_stopped_upstream_leaves_the_list_and_comes_back_and_clients_are
             assert "analysis" in await call_error(client, "analyze_trajectory", bag="x")
             ready = httpx.get(f"{url}/readyz")
             assert (ready.status_code, ready.json()["upstreams"]["analysis"]) == (503, "down")
-            with service("analysis-back", command, env=env, log_dir=tmp_path, ready=http_ok(f"{analysis_url}/healthz")):
+            with service("analysis-back", command, env=env, log_dir=tmp_path, ready=answering, stop_timeout_s=2):
                 with anyio.fail_after(20):
                     while "analyze_trajectory" not in await tool_names(url, TOKEN):
                         await anyio.sleep(0.3)

@@ -7,13 +7,12 @@ from __future__ import annotations
 from collections.abc import Iterator
 from pathlib import Path
 
-import httpx
 import pytest
 
 from tests.fixtures import scenario as sc
 from tests.fixtures.bagfactory import BagKind
 from tests.fixtures.inprocess import copy_bags
-from tests.fixtures.processes import BIN, http_ok, service, wait_until
+from tests.fixtures.processes import BIN, HTTP, http_ok, service, wait_until
 from tests.fixtures.servers import free_port
 from tests.integration.browser.harness import Watched, axe_violations, drawn
 
@@ -29,7 +28,7 @@ def embedded(scenario_bags: dict[BagKind, Path], tmp_path_factory: pytest.TempPa
     url = f"http://127.0.0.1:{port}"
     with service("console-serve", command, env={}, log_dir=work, ready=http_ok(f"{url}/healthz")):
         wait_until(
-            lambda: httpx.get(f"{url}/api/v1/bags/scenario").json()["status"] == "ready", timeout_s=60, what="ingest"
+            lambda: HTTP.get(f"{url}/api/v1/bags/scenario").json()["status"] == "ready", timeout_s=60, what="ingest"
         )
         yield url
 
