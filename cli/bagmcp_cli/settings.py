@@ -33,6 +33,7 @@ class EmbeddedSettings:
     data_dir: Path
     job_budget_s: float = 20.0
     allowed_hosts: tuple[str, ...] = ()
+    stop_grace_s: float = 8.0
     rate_limit: Limit | None = None
     open_bags: OpenBagLimits = DEFAULT_OPEN_BAGS
     input_budget: InputBudget = DEFAULT_INPUT_BUDGET
@@ -49,6 +50,7 @@ class EmbeddedSettings:
             data_dir=data_dir or default_data_dir(env) / folder_key(folder),
             job_budget_s=env.number("BAGMCP_JOB_BUDGET_S", 20.0),
             allowed_hosts=env.items("BAGMCP_ALLOWED_HOSTS"),
+            stop_grace_s=env.number("BAGMCP_STOP_GRACE_S", 8.0),
             rate_limit=rate_limit_from_env(env, default_per_s=0.0),
             open_bags=OpenBagLimits.from_env(env),
             input_budget=InputBudget.from_env(env),
@@ -61,7 +63,8 @@ class EmbeddedSettings:
         every address), BAGMCP_ALLOWED_HOSTS and ``allowed_hosts`` (``--allowed-host``)."""
         bound = [] if _is_any_address(host) else [f"[{host}]" if ":" in host else host]
         names = host_patterns([*bound, *self.allowed_hosts, *allowed_hosts])
-        return HttpSettings(host=host, port=port, allowed_hosts=tuple(dict.fromkeys([*LOOPBACK_HOSTS, *names])))
+        hosts = tuple(dict.fromkeys([*LOOPBACK_HOSTS, *names]))
+        return HttpSettings(host=host, port=port, allowed_hosts=hosts, stop_grace_s=self.stop_grace_s)
 
 
 def _is_any_address(host: str) -> bool:

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import contextlib
 import errno
+import math
 import socket
 from collections.abc import AsyncIterator, Awaitable, Callable, Mapping, Sequence
 from contextlib import AbstractAsyncContextManager
@@ -141,12 +142,15 @@ def serve(
     secret sent in a query).
 
     The socket is bound first, so a port in use is one clear error (a SettingsError) before anything says it
-    serves, and ``announce`` runs only once the socket is listening."""
+    serves, and ``announce`` runs only once the socket is listening. On SIGTERM or Ctrl-C, requests still open
+    get ``http.stop_grace_s`` to end, then are closed: uvicorn would otherwise wait for them without limit, and
+    a service always has some (the gateway's links, a call waiting for a job), so every stop ended in SIGKILL."""
     redact_access_log()
     sock = sock if sock is not None else bound_socket(http.host, http.port)
     if announce is not None:
         announce()
-    uvicorn.Server(uvicorn.Config(app, log_level=log_level)).run(sockets=[sock])
+    config = uvicorn.Config(app, log_level=log_level, timeout_graceful_shutdown=math.ceil(http.stop_grace_s))
+    uvicorn.Server(config).run(sockets=[sock])
 
 
 def bound_socket(host: str, port: int) -> socket.socket:

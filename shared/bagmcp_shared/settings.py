@@ -102,6 +102,7 @@ class HttpSettings:
     host: str = "127.0.0.1"
     port: int = 8000
     allowed_hosts: tuple[str, ...] = LOOPBACK_HOSTS
+    stop_grace_s: float = 8.0  # under Docker's 10 s before SIGKILL, so a stop ends on its own
 
     @classmethod
     def from_env(cls, env: Env, *, port: int, extra_hosts: tuple[str, ...] = ()) -> HttpSettings:
@@ -109,6 +110,7 @@ class HttpSettings:
             host=env.text("BAGMCP_HOST", "127.0.0.1"),
             port=env.integer("BAGMCP_PORT", port),
             allowed_hosts=host_patterns(env.items("BAGMCP_ALLOWED_HOSTS", (*LOOPBACK_HOSTS, *extra_hosts))),
+            stop_grace_s=env.number("BAGMCP_STOP_GRACE_S", 8.0),
         )
 
 
