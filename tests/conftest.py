@@ -10,10 +10,20 @@ import pytest
 
 from tests.fixtures.bagfactory import BAG_KINDS, BagKind, write_bag
 from tests.fixtures.drive_bags import write_drive_bags
+from tests.fixtures.once_per_run import written_once
 
 pytest_plugins = ["tests.fixtures.servers"]
 
+INTEGRATION = Path(__file__).resolve().parent / "integration"
 CORPUS = Path(os.environ.get("BAGMCP_CORPUS", Path(__file__).resolve().parents[2] / "shared/data/bags"))
+
+
+def pytest_ignore_collect(collection_path: Path, config: pytest.Config) -> bool | None:
+    """Under ``-m 'not integration'`` (make unit) skip tests/integration whole: tests/integration/conftest.py
+    marks every test there ``integration``, so all would be deselected, but only after each test process had
+    imported them (about 2 s of CPU per process without cached bytecode, measured with --collect-only)."""
+    unit_tier = " ".join(str(config.option.markexpr).split()) == "not integration"
+    return True if unit_tier and collection_path == INTEGRATION else None
 
 
 @pytest.fixture(scope="session")
@@ -36,9 +46,9 @@ def _files_of(root: Path) -> dict[str, tuple[int, int]]:
 
 @pytest.fixture(scope="session")
 def scenario_bags(tmp_path_factory: pytest.TempPathFactory) -> dict[BagKind, Path]:
-    """One generated scenario bag of each kind (ROS 1, ROS 2 sqlite3, ROS 2 MCAP)."""
-    directory = tmp_path_factory.mktemp("scenario-bags")
-    return {kind: write_bag(kind, directory) for kind in BAG_KINDS}
+    """One generated scenario bag of each kind (ROS 1, ROS 2 sqlite3, ROS 2 MCAP), written once per run."""
+    paths = written_once(tmp_path_factory, "scenario-bags", lambda folder: {k: write_bag(k, folder) for k in BAG_KINDS})
+    return {kind: paths[kind] for kind in BAG_KINDS}
 
 
 @pytest.fixture(params=BAG_KINDS)
@@ -54,6 +64,7 @@ def anyio_backend() -> str:
 
 @pytest.fixture(scope="session")
 def drive_bags(tmp_path_factory: pytest.TempPathFactory) -> dict[BagKind, Path]:
-    """The drive scenario (known geometry, logs, TF, images) in the three formats, written once per session
-    (per test process) for every test that reads it."""
-    return write_drive_bags(tmp_path_factory.mktemp("drive-bags"))
+    """The drive scenario (known geometry, logs, TF, images) in the three formats, written once per run (the
+    first test process to ask writes, the other reads) for every test that reads it."""
+    paths = written_once(tmp_path_factory, "drive-bags", write_drive_bags)
+    return {kind: paths[kind] for kind in BAG_KINDS}

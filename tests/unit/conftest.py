@@ -9,6 +9,7 @@ import pytest
 
 from tests.fixtures.bagfactory import BagKind
 from tests.fixtures.inprocess import InProcess, copy_bags, in_process
+from tests.fixtures.once_per_run import written_once
 from tests.fixtures.small_bags import (
     write_instant_bag,
     write_late_camera_bag,
@@ -37,9 +38,12 @@ def served_drive(drive_bags: dict[BagKind, Path], tmp_path_factory: pytest.TempP
 @pytest.fixture(scope="session")
 def served_small(tmp_path_factory: pytest.TempPathFactory) -> Iterator[InProcess]:
     """The small bags of tests/fixtures/small_bags.py (old_tf, late_imu, late_camera, instant)."""
-    folder = tmp_path_factory.mktemp("served-small") / "bags"
-    folder.mkdir()
-    for write in (write_old_tf_drive, write_late_topic_bag, write_late_camera_bag, write_instant_bag):
-        write(folder)
+    written = written_once(tmp_path_factory, "small-bags", _write_small_bags)
+    folder = copy_bags(list(written.values()), tmp_path_factory.mktemp("served-small") / "bags")
     with in_process(folder, tmp_path_factory.mktemp("data")) as services:
         yield services
+
+
+def _write_small_bags(folder: Path) -> dict[str, Path]:
+    writers = (write_old_tf_drive, write_late_topic_bag, write_late_camera_bag, write_instant_bag)
+    return {write.__name__: write(folder) for write in writers}
