@@ -20,9 +20,11 @@ import bisect
 import io
 import time
 from dataclasses import dataclass
+from functools import partial
 from typing import TYPE_CHECKING, Protocol
 
 from bagmcp_shared.access.blocks import BlockCache, object_id
+from bagmcp_shared.access.files import at_once
 from bagmcp_shared.errors import DamagedBagError, ObjectNotFoundError, StorageError
 from bagmcp_shared.storage import ObjectInfo
 from bagmcp_shared.storage.base import UNKNOWN_TOTAL, RangeAnswer
@@ -127,6 +129,19 @@ class RangedFile(io.BufferedIOBase):
         a miss inside one then fetches the rest of it in the same request (a chunk's header and body are
         two reads; without the hint they cost two requests)."""
         self._records = sorted(spans)
+
+    def prefetch_ends(self) -> None:
+        """Fetch the first block and the last ``block_bytes`` at once: a bag reader reads its header, then its
+        index or summary at the end (ROS 1: connections and chunk infos; MCAP: footer and summary), which
+        were two round trips one after the other (20 ms each on a network object store)."""
+        count = -(-self.size // self._block)
+        tail = max((self.size - self._block) // self._block, 0)
+        runs = [(0, count - 1)] if tail <= 1 else [(0, 0), (tail, count - 1)]
+        at_once([partial(self._fetch_missing, first, last) for first, last in runs])
+
+    def _fetch_missing(self, first: int, last: int) -> None:
+        if not self._blocks.path(self._obj, first).exists():
+            self._fetch_run(first, last)
 
     def readable(self) -> bool:
         return True

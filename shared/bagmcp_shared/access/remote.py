@@ -59,7 +59,17 @@ class RangedBagFiles(CachedBagFiles):
         if record.layout == "directory":
             return label, lambda: self._open_directory(record, label)
         stored = self._stored(record)
-        return label, lambda: open_stream(label, cast(BinaryIO, self.open_file(stored)), size=stored.size, fmt=fmt)
+        return label, lambda: open_stream(label, cast(BinaryIO, self._ends_fetched(stored)), size=stored.size, fmt=fmt)
+
+    def _ends_fetched(self, stored: StoredFile) -> RangedFile:
+        """A bag file opened with its header and its end (index or summary) fetched at once."""
+        file = self.open_file(stored)
+        try:
+            file.prefetch_ends()
+        except BaseException:
+            file.close()
+            raise
+        return file
 
     def _stored(self, record: BagRecord) -> StoredFile:
         name = record.files[0]
