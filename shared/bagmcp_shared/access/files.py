@@ -11,9 +11,10 @@ import time
 from collections.abc import Callable, Iterator
 from concurrent.futures import ThreadPoolExecutor
 from contextlib import contextmanager, suppress
+from contextvars import Context, copy_context
 from functools import partial
 from pathlib import Path
-from typing import Protocol
+from typing import Protocol, TypeVar
 
 from bagmcp_shared import keys
 from bagmcp_shared.access.blocks import BlockCounters
@@ -22,6 +23,8 @@ from bagmcp_shared.bags import BagReader, open_bag
 from bagmcp_shared.catalog.models import BagRecord
 from bagmcp_shared.errors import StorageError
 from bagmcp_shared.fetch_tally import count_fetched
+from bagmcp_shared.index.build import MANIFEST
+from bagmcp_shared.index.column_index import Locate
 from bagmcp_shared.scratch import own_scratch
 from bagmcp_shared.storage import LocalStore, ObjectStore
 
@@ -29,6 +32,23 @@ _COMPLETE = ".complete"
 # Objects fetched at once for one entry: a bag's columnar index is about fifteen small files, which one by one
 # cost a round trip each (15 x 20 ms on a network object store, before a point read can start).
 FETCHES_AT_ONCE = 8
+T = TypeVar("T")
+
+
+def at_once(calls: list[Callable[[], T]]) -> list[T]:
+    """The results of ``calls``, made at once (up to FETCHES_AT_ONCE threads) when there are several: each is
+    a round trip to the object store. Each runs in a copy of the caller's context, so what it fetches counts
+    in the caller's fetch tally; the first failure is raised."""
+    if len(calls) < 2:
+        return [call() for call in calls]
+    contexts = [copy_context() for _ in calls]
+    with ThreadPoolExecutor(max_workers=min(FETCHES_AT_ONCE, len(calls))) as pool:
+        return list(pool.map(Context.run, contexts, calls))
+
+
+def _base(key: str) -> str:
+    """The file name an object is kept under in an entry: the last part of its key."""
+    return key.rsplit("/", 1)[-1]
 
 
 class BagFiles(Protocol):
@@ -38,6 +58,10 @@ class BagFiles(Protocol):
 
     def index_dir(self, record: BagRecord) -> Path | None:
         """The local directory of the bag's columnar index, or None when it has none."""
+        ...
+
+    def index_locator(self, record: BagRecord) -> Locate | None:
+        """How to find each file of the bag's columnar index when it is read, or None when it has none."""
         ...
 
     def reader_for(self, record: BagRecord) -> tuple[Path, Callable[[], BagReader]]:
@@ -90,6 +114,10 @@ class FolderBagFiles:
     def index_dir(self, record: BagRecord) -> Path | None:
         path = self._index_root / record.id
         return path if (path / _COMPLETE).exists() else None
+
+    def index_locator(self, record: BagRecord) -> Locate | None:
+        directory = self.index_dir(record)
+        return None if directory is None else directory.joinpath
 
     def publish_index(self, record: BagRecord, built: Path) -> list[str]:
         target = self._index_root / record.id
@@ -147,16 +175,25 @@ class CachedBagFiles:
         just used (eviction spares entries used within ``min_idle_s``, so the caller can read it now).
 
         An entry is complete when its marker exists and it holds every wanted file: the same content
-        stored again under other file names is fetched again, never read under the old names."""
+        stored again under other file names is fetched again, never read under the old names. The files
+        of an entry that are missing are added to it, the others left in place (an index's files are
+        fetched one by one as they are read, and a reader may hold one open)."""
         root = self._dir / name
         key = (name, tuple(wanted))
         checked = self._checked.get(key)
-        if checked is not None and time.monotonic() - checked < self._min_idle_s / 4 and (root / _COMPLETE).exists():
+        if (
+            checked is not None
+            and time.monotonic() - checked < self._min_idle_s / 4
+            and (root / _COMPLETE).exists()
+            and (len(wanted) != 1 or (root / _base(wanted[0])).exists())
+        ):
             return root
         with self._locked(name):  # eviction takes the same lock, so it cannot remove the entry meanwhile
-            present = (root / _COMPLETE).exists() and all((root / k.rsplit("/", 1)[-1]).exists() for k in wanted)
-            if not present:
-                self._fetch_objects(wanted, root)
+            complete = (root / _COMPLETE).exists()
+            missing = [k for k in wanted if not (complete and (root / _base(k)).exists())]
+            present = not missing
+            if missing:
+                self._fetch_objects(missing, root, into=complete)
             os.utime(root / _COMPLETE)
             self._checked[key] = time.monotonic()
         if not present:  # only a fetch adds bytes
@@ -199,6 +236,18 @@ class CachedBagFiles:
         wanted = [keys.index_file(record.id, n) for n in record.index_files]
         return self._ensure(f"{record.id}-index", wanted, bag_id=record.id)
 
+    def index_locator(self, record: BagRecord) -> Locate | None:
+        """Each file fetched when first read, into the same entry as ``index_dir``'s: opening the index fetches
+        its manifest alone, and a point read none of its files. Fetching all fifteen or so before the first
+        question (4.6 of a 2 GB bag's 9.2 MB cold point read, the first of its 19 to 26 requests in sequence)
+        cost 0.3 to 0.4 s with 20 ms per request."""
+        if MANIFEST not in record.index_files:
+            return None
+        return partial(self._index_file, record)
+
+    def _index_file(self, record: BagRecord, name: str) -> Path:
+        return self._ensure(f"{record.id}-index", [keys.index_file(record.id, name)], bag_id=record.id) / name
+
     def publish_index(self, record: BagRecord, built: Path) -> list[str]:
         """Every file of the index put at once, up to FETCHES_AT_ONCE (each put is a PUT, or a write and an
         fsync in a local store: one after the other, a short bag's dozen small files cost more than indexing it).
@@ -212,21 +261,26 @@ class CachedBagFiles:
             )
         return names
 
-    def _fetch_objects(self, wanted: list[str], root: Path) -> None:
-        """Download the objects ``wanted`` into ``root`` (named by their last part), all or nothing; the
-        completion marker is written last, after the rename."""
+    def _fetch_objects(self, wanted: list[str], root: Path, *, into: bool) -> None:
+        """Download the objects ``wanted`` into ``root`` (named by their last part), all or nothing: into the
+        complete entry ``root`` when ``into`` (each file renamed in), else as a new entry replacing whatever
+        is there, whose completion marker is written last, after the rename."""
         partial = self._partials / f"{root.name}-{threading.get_ident()}"
         shutil.rmtree(partial, ignore_errors=True)
         partial.mkdir(parents=True)
         try:
-            targets = [partial / key.rsplit("/", 1)[-1] for key in wanted]
+            targets = [partial / _base(key) for key in wanted]
             with ThreadPoolExecutor(max_workers=max(1, min(FETCHES_AT_ONCE, len(wanted)))) as pool:
                 list(pool.map(self._store.download_to, wanted, targets))  # the first failure is raised here
             fetched = sum(target.stat().st_size for target in targets)
             count_fetched(fetched)
             self.counters.add(whole_bytes=fetched)
-            shutil.rmtree(root, ignore_errors=True)
-            partial.rename(root)
+            if into:
+                for target in targets:
+                    target.replace(root / target.name)
+            else:
+                shutil.rmtree(root, ignore_errors=True)
+                partial.rename(root)
             (root / _COMPLETE).touch()
         finally:
             shutil.rmtree(partial, ignore_errors=True)

@@ -3,9 +3,10 @@ bounded cache, and answer time questions about it."""
 
 from __future__ import annotations
 
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from contextlib import contextmanager
-from dataclasses import dataclass
+from dataclasses import dataclass, field
+from functools import cached_property, partial
 
 from bagmcp_shared.access.files import BagFiles
 from bagmcp_shared.access.readers import ReaderCache
@@ -18,13 +19,11 @@ from bagmcp_shared.timebase import Instant, TimeInput, iso_from_ns, parse_time
 SHORT_TOPIC = 5_000  # messages decoded inline, without a job
 
 
-@dataclass(frozen=True)
-class KnownBag:
-    """What the catalog knows about a ready bag: its record, summary and (when built) columnar index."""
+class _Catalogued:
+    """Times and name of a ready bag, from its record and catalog summary."""
 
     record: BagRecord
     summary: CatalogSummary
-    index: ColumnIndex | None
 
     @property
     def start_ns(self) -> int:
@@ -40,10 +39,29 @@ class KnownBag:
 
 
 @dataclass(frozen=True)
-class OpenBag(KnownBag):
-    """A ready bag, open for reading, with its catalog summary and (when built) columnar index."""
+class KnownBag(_Catalogued):
+    """What the catalog knows about a ready bag: its record, summary and (when built) columnar index."""
 
+    record: BagRecord
+    summary: CatalogSummary
+    index: ColumnIndex | None
+
+
+@dataclass(frozen=True)
+class OpenBag(_Catalogued):
+    """A ready bag, open for reading, with its catalog summary and (when built) columnar index.
+
+    The index is opened when a question first reads it, not with the bag: in team mode opening it fetches
+    its manifest from the object store, a round trip a point read (which reads no index) would wait for."""
+
+    record: BagRecord
+    summary: CatalogSummary
     reader: BagReader
+    open_index: Callable[[], ColumnIndex | None] = field(repr=False, compare=False)
+
+    @cached_property
+    def index(self) -> ColumnIndex | None:
+        return self.open_index()
 
     def topic(self, name: str) -> TopicStats:
         """Counts and bounds of a topic (leading slash optional) from the catalog."""
@@ -127,8 +145,9 @@ class BagAccess:
         if len(self.cache) >= self.cache.max_bags:
             return False
         try:
-            with self.open(bag_id, need_messages=False):
-                return True
+            with self.open(bag_id, need_messages=False) as bag:
+                bag.index  # noqa: B018 (the index opened too: the first question may read it)
+            return True
         except BagmcpError:
             return False
 
@@ -140,6 +159,6 @@ class BagAccess:
         if summary is None or ((summary.start_ns is None or summary.end_ns is None) and need_messages):
             raise TimeError(f"bag {record.name} has no messages")
         path, opener = self.files.reader_for(record)
-        index = self.cache.index(record.id, path, lambda: ColumnIndex.load(self.files.index_dir(record)))
+        index = partial(self.cache.index, record.id, path, lambda: ColumnIndex.open(self.files.index_locator(record)))
         with self.cache.reader(record.id, path, opener) as reader:
-            yield OpenBag(record, summary, index, reader)
+            yield OpenBag(record, summary, reader, index)

@@ -3,9 +3,15 @@
 A bag library that seeks and reads (the ``mcap`` reader: footer, summary, then only the chunks a
 question needs) fetches just those blocks from the object store. Reads that continue where the last
 one ended also fetch ``read_ahead_bytes`` more in the same request, so a streaming reader makes few,
-large requests. Wrong data is impossible: every range response carries the object's ETag, which must
-be the one pinned when the file was opened (the catalog's, else the one a HEAD found, whose size must
-be the catalog's), and must hold every byte asked for; anything else is an error naming the bag.
+large requests. Wrong data is impossible: every range response carries the object's ETag and size
+(``Content-Range``), which must be the ones the file was opened with, and must hold every byte asked
+for; anything else is an error naming the bag.
+
+Opening costs no request when the catalog records the file's ETag and size (a single-file bag): the
+first range read checks them. Each request is a round trip in sequence with the reader's next one (20 ms
+on a network object store), so a HEAD before it would add a round trip to every cold read. A ROS 2
+directory's files have no size of their own in the catalog: the first read of block 0 (which their
+readers read first anyway) brings it. Only a bag stored before ETags were recorded is opened with a HEAD.
 """
 
 from __future__ import annotations
@@ -14,11 +20,14 @@ import bisect
 import io
 import time
 from dataclasses import dataclass
+from functools import partial
 from typing import TYPE_CHECKING, Protocol
 
 from bagmcp_shared.access.blocks import BlockCache, object_id
+from bagmcp_shared.access.files import at_once
 from bagmcp_shared.errors import DamagedBagError, ObjectNotFoundError, StorageError
 from bagmcp_shared.storage import ObjectInfo
+from bagmcp_shared.storage.base import UNKNOWN_TOTAL, RangeAnswer
 
 if TYPE_CHECKING:
     from _typeshed import WriteableBuffer
@@ -36,7 +45,7 @@ class RangeStore(Protocol):
 
     def stat(self, key: str) -> ObjectInfo: ...
 
-    def read_range_tagged(self, key: str, *, offset: int, length: int) -> tuple[bytes, str]: ...
+    def read_range_tagged(self, key: str, *, offset: int, length: int) -> RangeAnswer: ...
 
 
 UNKNOWN_SIZE = -1
@@ -61,8 +70,8 @@ def changed(bag: str, what: str) -> DamagedBagError:
 
 
 def pinned(store: RangeStore, stored: StoredFile) -> StoredFile:
-    """``stored`` with the ETag every range read must carry (the catalog's, checked against a HEAD of the
-    object, else the HEAD's) and its size (the HEAD's when the catalog records none)."""
+    """``stored`` with the ETag every range read must carry and its size, from a HEAD of the object (checked
+    against the catalog's size and ETag where it records them)."""
     try:
         found = store.stat(stored.key)
     except ObjectNotFoundError as err:
@@ -89,13 +98,14 @@ class RangedFile(io.BufferedIOBase):
     def __init__(self, store: RangeStore, stored: StoredFile, blocks: BlockCache, *, read_ahead_bytes: int) -> None:
         super().__init__()
         self._store = store
-        self._stored = stored = pinned(store, stored)
+        self._tag_recorded = bool(stored.etag)  # the ETag is the catalog's (else a HEAD's)
+        self._recorded = stored.size != UNKNOWN_SIZE  # the size is the catalog's (else a HEAD's or block 0's)
+        self._stored = stored = stored if stored.etag else pinned(store, stored)
         self._blocks = blocks
         self._etag = stored.etag
         self._obj = object_id(store.bucket, stored.key, self._etag)
         self._block = blocks.block_bytes
         self._ahead = max(read_ahead_bytes // self._block, 0)
-        self._count = -(-stored.size // self._block)
         self._pos = 0
         self._next = -2  # the block after the last one read: a read starting there continues
         self._streak = 0  # reads in a row that continued the one before
@@ -104,7 +114,9 @@ class RangedFile(io.BufferedIOBase):
 
     @property
     def size(self) -> int:
-        """The object's size in bytes (the HEAD's when the catalog recorded none)."""
+        """The object's size in bytes (read with block 0 when the catalog recorded none)."""
+        if self._stored.size == UNKNOWN_SIZE:
+            self._learn_size()
         return self._stored.size
 
     @property
@@ -118,6 +130,19 @@ class RangedFile(io.BufferedIOBase):
         two reads; without the hint they cost two requests)."""
         self._records = sorted(spans)
 
+    def prefetch_ends(self) -> None:
+        """Fetch the first block and the last ``block_bytes`` at once: a bag reader reads its header, then its
+        index or summary at the end (ROS 1: connections and chunk infos; MCAP: footer and summary), which
+        were two round trips one after the other (20 ms each on a network object store)."""
+        count = -(-self.size // self._block)
+        tail = max((self.size - self._block) // self._block, 0)
+        runs = [(0, count - 1)] if tail <= 1 else [(0, 0), (tail, count - 1)]
+        at_once([partial(self._fetch_missing, first, last) for first, last in runs])
+
+    def _fetch_missing(self, first: int, last: int) -> None:
+        if not self._blocks.path(self._obj, first).exists():
+            self._fetch_run(first, last)
+
     def readable(self) -> bool:
         return True
 
@@ -128,7 +153,7 @@ class RangedFile(io.BufferedIOBase):
         return self._pos
 
     def seek(self, offset: int, whence: int = io.SEEK_SET) -> int:
-        base = {io.SEEK_SET: 0, io.SEEK_CUR: self._pos, io.SEEK_END: self._stored.size}[whence]
+        base = {io.SEEK_SET: 0, io.SEEK_CUR: self._pos, io.SEEK_END: self.size}[whence]
         if base + offset < 0:
             raise ValueError(f"negative seek position {base + offset}")
         self._pos = base + offset
@@ -138,7 +163,7 @@ class RangedFile(io.BufferedIOBase):
         return self.read(size)
 
     def read(self, size: int | None = -1) -> bytes:
-        stop = self._stored.size if size is None or size < 0 else min(self._pos + size, self._stored.size)
+        stop = self.size if size is None or size < 0 else min(self._pos + size, self.size)
         if stop <= self._pos:
             return b""
         start, self._pos = self._pos, stop
@@ -155,9 +180,10 @@ class RangedFile(io.BufferedIOBase):
 
     def _range(self, start: int, stop: int) -> bytes:
         first, last = start // self._block, (stop - 1) // self._block
+        count = -(-self.size // self._block)
         self._streak = self._streak + 1 if first in (self._next, self._next - 1) else 0
-        ahead = min(last + self._ahead, self._count - 1) if self._streak >= STREAMING else last
-        ahead = max(ahead, min(self._record_end(start) // self._block, self._count - 1))
+        ahead = min(last + self._ahead, count - 1) if self._streak >= STREAMING else last
+        ahead = max(ahead, min(self._record_end(start) // self._block, count - 1))
         self._next = last + 1
         parts = self._blocks_of(first, last, ahead)
         self._remember(last, parts[-1])
@@ -201,18 +227,45 @@ class RangedFile(io.BufferedIOBase):
             if found is not None:
                 return [found]
             offset = first * self._block
-            data = self._get(offset, min((end + 1) * self._block, self._stored.size) - offset)
+            data = self._get(offset, min((end + 1) * self._block, self.size) - offset)
             parts = [data[at : at + self._block] for at in range(0, len(data), self._block)]
             for number, part in enumerate(parts):
                 self._blocks.store(self._obj, first + number, part)
             return parts
 
+    def _learn_size(self) -> None:
+        """Read block 0 (kept, as any fetched block) and take the object's size from the answer; a HEAD when
+        the server sent no size."""
+        answer = self._request(0, self._block)
+        if answer.total == UNKNOWN_TOTAL:
+            self._stored = pinned(self._store, self._stored)
+            return
+        self._stored = StoredFile(self._stored.bag, self._stored.key, answer.total, self._etag)
+        self._checked(answer, 0, min(self._block, answer.total))
+        if answer.data:
+            self._blocks.store(self._obj, 0, answer.data)
+            self._remember(0, answer.data)
+
     def _get(self, offset: int, length: int) -> bytes:
-        """``length`` bytes at ``offset`` from the object store, with bounded retries of failed requests."""
+        """``length`` bytes at ``offset`` from the object store, checked to be all there."""
+        return self._checked(self._request(offset, length), offset, length)
+
+    def _checked(self, answer: RangeAnswer, offset: int, length: int) -> bytes:
+        """The answer's bytes, once its object is known to be the one opened and every byte asked came back."""
+        stored = self._stored
+        if answer.total not in (UNKNOWN_TOTAL, stored.size):
+            opened = "the catalog recorded" if self._recorded else "opened as"
+            raise changed(stored.bag, f"{answer.total} bytes, {opened} {stored.size}")
+        if len(answer.data) != length:
+            raise changed(stored.bag, f"{len(answer.data)} of {length} bytes came back at offset {offset}")
+        return answer.data
+
+    def _request(self, offset: int, length: int) -> RangeAnswer:
+        """A ranged GET with bounded retries of failed requests, its ETag checked against the one opened."""
         stored = self._stored
         for attempt, pause in enumerate((*RETRY_PAUSES_S, None)):
             try:
-                data, etag = self._store.read_range_tagged(stored.key, offset=offset, length=length)
+                answer = self._store.read_range_tagged(stored.key, offset=offset, length=length)
             except ObjectNotFoundError as err:
                 raise StorageError(
                     f"bag {stored.bag} is missing from the object store ({stored.key}); delete it and upload it again"
@@ -225,9 +278,8 @@ class RangedFile(io.BufferedIOBase):
                     ) from err
                 time.sleep(pause)
                 continue
-            if etag and etag != self._etag:
-                raise changed(stored.bag, f"ETag {etag}, opened as {self._etag}")
-            if len(data) != length:
-                raise changed(stored.bag, f"{len(data)} of {length} bytes came back at offset {offset}")
-            return data
+            if answer.etag and answer.etag != self._etag:
+                opened = "the catalog recorded" if self._tag_recorded else "opened as"
+                raise changed(stored.bag, f"ETag {answer.etag}, {opened} {self._etag}")
+            return answer
         raise AssertionError("unreachable")  # the last pause is None

@@ -17,12 +17,13 @@ the object store (``parts_of``)."""
 from __future__ import annotations
 
 from collections.abc import Callable
+from functools import partial
 from pathlib import Path
 from typing import BinaryIO, Protocol, cast
 
 from bagmcp_shared import keys
 from bagmcp_shared.access.blocks import BlockCache
-from bagmcp_shared.access.files import CachedBagFiles
+from bagmcp_shared.access.files import CachedBagFiles, at_once
 from bagmcp_shared.access.ranged import UNKNOWN_SIZE, RangedFile, RangeStore, StoredFile, changed
 from bagmcp_shared.bags import BagFormat, BagReader, open_directory_stream, open_stream
 from bagmcp_shared.bags.detect import format_of_head
@@ -58,7 +59,17 @@ class RangedBagFiles(CachedBagFiles):
         if record.layout == "directory":
             return label, lambda: self._open_directory(record, label)
         stored = self._stored(record)
-        return label, lambda: open_stream(label, cast(BinaryIO, self.open_file(stored)), size=stored.size, fmt=fmt)
+        return label, lambda: open_stream(label, cast(BinaryIO, self._ends_fetched(stored)), size=stored.size, fmt=fmt)
+
+    def _ends_fetched(self, stored: StoredFile) -> RangedFile:
+        """A bag file opened with its header and its end (index or summary) fetched at once."""
+        file = self.open_file(stored)
+        try:
+            file.prefetch_ends()
+        except BaseException:
+            file.close()
+            raise
+        return file
 
     def _stored(self, record: BagRecord) -> StoredFile:
         name = record.files[0]
@@ -81,32 +92,38 @@ class RangedBagFiles(CachedBagFiles):
 
     def _open_directory(self, record: BagRecord, label: Path) -> BagReader:
         """A ROS 2 directory of MCAP or sqlite3 storage files: metadata.yaml read whole (a few KB, through the
-        block cache like the rest), each storage file opened by range (its HEAD gives the size the catalog
-        lacks); the catalog's per-topic totals stand in for sqlite3 files' scans of every row."""
-        metadata: bytes | None = None
-        storage: dict[str, tuple[BinaryIO, int]] = {}
+        block cache like the rest), each storage file opened by range; the catalog's per-topic totals stand
+        in for sqlite3 files' scans of every row. The catalog records no size per file, so each file's first
+        block is read at once with the others (its answer gives the size; its readers read it first anyway):
+        one round trip for the directory, not one per file."""
+        files: dict[str, RangedFile] = {}
         try:
             for name in record.files:
                 stored = StoredFile(
                     record.name, keys.bag_file(record.id, name), UNKNOWN_SIZE, record.etags.get(name, "")
                 )
-                file = self.open_file(stored)
-                if Path(name).name == METADATA:
-                    with file:
-                        metadata = file.read()
-                else:
-                    storage[Path(name).name] = (cast(BinaryIO, file), file.size)
-            if (found := len(metadata or b"") + sum(size for _, size in storage.values())) != record.size_bytes:
+                files[Path(name).name] = self.open_file(stored)
+            sizes = at_once([partial(_size, file) for file in files.values()])
+            if (found := sum(sizes)) != record.size_bytes:
                 raise changed(record.name, f"{found} bytes in all, the catalog recorded {record.size_bytes}")
+            metadata = None
+            if (listed := files.pop(METADATA, None)) is not None:
+                with listed:
+                    metadata = listed.read()
         except BaseException:
-            for stream, _ in storage.values():
-                stream.close()
+            for file in files.values():
+                file.close()
             raise
+        storage = {name: (cast(BinaryIO, file), file.size) for name, file in files.items()}
         return open_directory_stream(label, metadata, storage, totals=topic_totals(record))
 
     def open_file(self, stored: StoredFile) -> RangedFile:
         """A seekable file over ``stored``, read through the block cache."""
         return RangedFile(self._ranges, stored, self.blocks, read_ahead_bytes=self._read_ahead)
+
+
+def _size(file: RangedFile) -> int:
+    return file.size
 
 
 RANGED = frozenset({BagFormat.MCAP, BagFormat.ROS1})

@@ -1,5 +1,9 @@
 """A built index on local disk: columns of a topic (loaded once, kept read-only), its transforms and logs;
-and ``read_series``, which answers from the index when it has every column asked for, else decodes."""
+and ``read_series``, which answers from the index when it has every column asked for, else decodes.
+
+Its files are found through ``Locate``: a directory's files in embedded mode, and in team mode a file
+fetched from the object store when it is first read (only the manifest to open the index, then only the
+files a question reads: a bag's index is about fifteen files, most of which a question does not use)."""
 
 from __future__ import annotations
 
@@ -18,6 +22,7 @@ from bagmcp_shared.index.series import Series, decode_series
 from bagmcp_shared.index.transforms import TransformRows, load_transforms
 
 Entries = dict[str, dict[str, object]]
+Locate = Callable[[str], Path]  # the local path of one of the index's files (fetched first where need be)
 
 
 def _entries(document: dict[str, object], key: str) -> Entries:
@@ -31,8 +36,8 @@ def _find(entries: Entries, topic: str) -> dict[str, object] | None:
 
 
 class ColumnIndex:
-    def __init__(self, directory: Path, document: dict[str, object]) -> None:
-        self._dir = directory
+    def __init__(self, locate: Locate, document: dict[str, object]) -> None:
+        self._locate = locate
         self._columns = _entries(document, "topics")
         self._transforms = _entries(document, "transforms")
         self._logs = _entries(document, "logs")
@@ -42,15 +47,21 @@ class ColumnIndex:
     @classmethod
     def load(cls, directory: Path | None) -> ColumnIndex | None:
         """The index in ``directory``; None when there is none or it is of another format version."""
-        if directory is None:
+        return None if directory is None else cls.open(directory.joinpath)
+
+    @classmethod
+    def open(cls, locate: Locate | None) -> ColumnIndex | None:
+        """The index whose files ``locate`` finds (its manifest read now, the rest when read); None when there
+        is none or it is of another format version."""
+        if locate is None:
             return None
         try:
-            document = json.loads((directory / MANIFEST).read_text())
+            document = json.loads(locate(MANIFEST).read_text())
         except (OSError, ValueError):
             return None
         if not isinstance(document, dict) or document.get("version") != FORMAT_VERSION:
             return None
-        return cls(directory, document)
+        return cls(locate, document)
 
     def header_rates(self) -> dict[str, float]:
         """Header-stamp rate of each indexed topic that has sane header stamps."""
@@ -86,7 +97,7 @@ class ColumnIndex:
         entry = _find(self._transforms, topic)
         if entry is None:
             return None
-        loaded = self._cached(f"tf:{entry['file']}", lambda: load_transforms(str(self._dir / str(entry["file"]))))
+        loaded = self._cached(f"tf:{entry['file']}", lambda: load_transforms(str(self._locate(str(entry["file"])))))
         assert isinstance(loaded, TransformRows)
         return loaded
 
@@ -94,14 +105,14 @@ class ColumnIndex:
         entry = _find(self._logs, topic)
         if entry is None:
             return None
-        loaded = self._cached(f"logs:{entry['file']}", lambda: load_logs(self._dir / str(entry["file"])))
+        loaded = self._cached(f"logs:{entry['file']}", lambda: load_logs(self._locate(str(entry["file"]))))
         assert isinstance(loaded, list)
         return loaded
 
     def _arrays(self, topic: str) -> dict[str, npt.NDArray[np.generic]]:
         entry = _find(self._columns, topic)
         assert entry is not None
-        loaded = self._cached(f"columns:{entry['file']}", lambda: _read_npz(self._dir / str(entry["file"])))
+        loaded = self._cached(f"columns:{entry['file']}", lambda: _read_npz(self._locate(str(entry["file"]))))
         assert isinstance(loaded, dict)
         return loaded
 

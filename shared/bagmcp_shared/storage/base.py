@@ -10,7 +10,7 @@ from collections.abc import Iterator
 from contextlib import AbstractContextManager, suppress
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import BinaryIO, Protocol
+from typing import BinaryIO, NamedTuple, Protocol
 
 from bagmcp_shared.errors import InvalidKeyError, StorageError
 
@@ -31,6 +31,18 @@ class ObjectInfo:
     key: str
     size: int
     etag: str = field(default="", compare=False)  # equal objects are equal by key and size
+
+
+class RangeAnswer(NamedTuple):
+    """A ranged read's bytes with what the server said of the whole object: its ETag ("" when it sent none)
+    and its size in bytes (from ``Content-Range``; UNKNOWN_TOTAL when it sent none)."""
+
+    data: bytes
+    etag: str
+    total: int
+
+
+UNKNOWN_TOTAL = -1
 
 
 class ObjectStore(Protocol):

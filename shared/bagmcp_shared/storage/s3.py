@@ -19,7 +19,9 @@ from urllib3.util import Retry, Timeout
 
 from bagmcp_shared.errors import ObjectNotFoundError, StorageError
 from bagmcp_shared.storage.base import (
+    UNKNOWN_TOTAL,
     ObjectInfo,
+    RangeAnswer,
     StreamPutters,
     check_range,
     is_valid_key,
@@ -161,15 +163,16 @@ class S3Store(StreamPutters):
                 response.close()
                 response.release_conn()
 
-    def read_range_tagged(self, key: str, *, offset: int, length: int) -> tuple[bytes, str]:
-        """Ranged GET of ``length`` > 0 bytes, with the ETag the server sent along (so a caller that pinned
-        an object's ETag sees a replaced object in the same request, at no extra round trip)."""
+    def read_range_tagged(self, key: str, *, offset: int, length: int) -> RangeAnswer:
+        """Ranged GET of ``length`` > 0 bytes, with the ETag and the object's size the server sent along (so a
+        caller that knows what the object should be sees a replaced one in the same request, with no HEAD)."""
         validate_key(key)
         check_range(offset, length)
         with self._guard(f"read {key!r}", key):
             response = self._client.get_object(self._bucket, key, offset=offset, length=max(length, 1))
             try:
-                return response.read(), (response.headers.get("ETag") or "").strip('"')
+                etag = (response.headers.get("ETag") or "").strip('"')
+                return RangeAnswer(response.read(), etag, range_total(response.headers.get("Content-Range")))
             finally:
                 response.close()
                 response.release_conn()
@@ -255,3 +258,9 @@ class _ResponseReader(io.RawIOBase):
             raise transport_error(self._url, err) from err
         view[: len(data)] = data
         return len(data)
+
+
+def range_total(content_range: str | None) -> int:
+    """The object's size from a ``Content-Range: bytes a-b/total`` header; UNKNOWN_TOTAL when absent or ``*``."""
+    total = (content_range or "").rpartition("/")[2].strip()
+    return int(total) if total.isdigit() else UNKNOWN_TOTAL

@@ -10,6 +10,7 @@ from bagmcp_shared.access import BagAccess, BagFiles
 from bagmcp_shared.access.parts import BagPart
 from bagmcp_shared.bags import BagReader
 from bagmcp_shared.catalog import BagRecord
+from bagmcp_shared.index.column_index import Locate
 
 
 class WithoutIndex:
@@ -22,6 +23,9 @@ class WithoutIndex:
         return self._files.path_for(record)
 
     def index_dir(self, record: BagRecord) -> Path | None:
+        return None
+
+    def index_locator(self, record: BagRecord) -> Locate | None:
         return None
 
     def reader_for(self, record: BagRecord) -> tuple[Path, Callable[[], BagReader]]:

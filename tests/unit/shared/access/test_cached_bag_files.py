@@ -153,3 +153,37 @@ def test_a_failed_put_fails_the_publish(tmp_path: Path) -> None:
     cache = CachedBagFiles(_SlowStore(tmp_path / "objects"), tmp_path / "cache", max_bytes=10_000)
     with pytest.raises(StorageError, match=r"bad\.npz"):
         cache.publish_index(stored_record("abcd", "abcd", size=1), _built(tmp_path, ["a.npz", "bad.npz", "c.npz"]))
+
+
+class _CountingStore(LocalStore):
+    """A local store that records the key of every download."""
+
+    def __init__(self, root: Path) -> None:
+        super().__init__(root)
+        self.downloads: list[str] = []
+
+    def download_to(self, key: str, path: Path) -> None:
+        self.downloads.append(key)
+        super().download_to(key, path)
+
+
+def test_an_index_is_fetched_file_by_file_as_it_is_read_and_completed_without_fetching_those_again(
+    tmp_path: Path,
+) -> None:
+    store = _CountingStore(tmp_path / "objects")
+    names = ["a.npz", "b.npz", "manifest.json"]
+    for name in names:
+        store.put_bytes(f"indexes/abcd/columns/{name}", name.encode())
+    record = stored_record("abcd", "abcd").model_copy(update={"index_files": names})
+    cache = CachedBagFiles(store, tmp_path / "cache", max_bytes=10_000)
+    locate = cache.index_locator(record)
+    assert locate is not None
+    assert locate("manifest.json").read_bytes() == b"manifest.json"
+    assert locate("a.npz").read_bytes() == b"a.npz"
+    assert locate("a.npz").read_bytes() == b"a.npz"  # once
+    assert store.downloads == ["indexes/abcd/columns/manifest.json", "indexes/abcd/columns/a.npz"]
+    directory = cache.index_dir(record)  # the whole index, as the fleet views read it: only b.npz is missing
+    assert directory is not None
+    assert sorted(p.name for p in directory.iterdir() if not p.name.startswith(".")) == names
+    assert store.downloads[2:] == ["indexes/abcd/columns/b.npz"]
+    assert cache.index_locator(record.model_copy(update={"index_files": ["a.npz"]})) is None  # no manifest

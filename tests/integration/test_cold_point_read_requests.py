@@ -1,0 +1,95 @@
+"""A cold point read in team mode makes few S3 requests: a fresh process (empty caches) answering one
+``get_message_at_time`` about a stored bag of each format, through a counting loopback proxy in front of a
+real weed S3, fetches none of the bag's columnar index files (a point read reads none of them) and opens the
+bag in a handful of requests. With 20 ms added to every request on a network object store, each request
+costs its 20 ms, since they are made one after the other (issue 21: 19 to 26 requests, 617 to 908 ms)."""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Iterator
+from pathlib import Path
+
+import pytest
+
+from bagmcp_bag_store.ingest.content import content_id
+from bagmcp_bag_store.ingest.ingest import Ingestor
+from bagmcp_bag_store.ingest.shelf import Shelf
+from bagmcp_bag_store.queries.messages import MessageAtTimeParams, get_message_at_time
+from bagmcp_bag_store.reports import MessageAtTime
+from bagmcp_shared.access import BagAccess, RangedBagFiles
+from bagmcp_shared.bags.sqlite3_source import forget_topic_stats
+from bagmcp_shared.catalog import BagRecord, MemoryCatalog
+from bagmcp_shared.settings import RangeReads
+from bagmcp_shared.storage import S3Store
+from bench.delay_proxy import DelayProxy, delay_proxy
+from tests.fixtures.bagfactory import BAG_KINDS, BagKind
+from tests.fixtures.servers import S3Endpoint
+from tests.integration.test_range_reads import s3_of
+
+pytestmark = pytest.mark.integration
+
+# Blocks small enough that the scenario bags (about 0.3 MB) read as a large bag does: header, summary or
+# pages, then the chunk asked for, each its own range.
+READS = RangeReads(block_bytes=16 << 10, cache_bytes=4 << 20, read_ahead_bytes=64 << 10)
+# ROS 1: header, index, chunk; sqlite3: metadata.yaml and the .db3's first block at once, then three pages;
+# MCAP: metadata.yaml and the .mcap's first block at once, summary, chunk.
+MOST_REQUESTS: dict[BagKind, int] = {"ros1": 3, "ros2-sqlite3": 5, "ros2-mcap": 4}
+
+
+@pytest.fixture(scope="module")
+def proxied(s3_server: S3Endpoint) -> Iterator[tuple[S3Store, S3Store, DelayProxy]]:
+    """The bucket seen directly (to store and ingest) and through the counting proxy (to read)."""
+    with delay_proxy(s3_server.endpoint) as proxy:
+        direct = s3_of(s3_server, f"cold-{proxy.port}")
+        direct.ensure_bucket()
+        counted = s3_of(S3Endpoint(proxy.endpoint, s3_server.access_key, s3_server.secret_key), direct.bucket)
+        counted.ensure_bucket()  # as a service does when it starts (its client learns the bucket's region)
+        yield direct, counted, proxy
+
+
+def stored(store: S3Store, catalog: MemoryCatalog, bag: Path, work: Path) -> BagRecord:
+    """``bag`` stored and ingested as the bag-store does (columnar index and fleet views published)."""
+    names = sorted(p.name for p in bag.iterdir()) if bag.is_dir() else [bag.name]
+    sha = content_id([bag / n for n in names] if bag.is_dir() else [bag], directory=bag.is_dir())
+    record, _ = Shelf(catalog, store).register(bag, names, sha, name=bag.name, tags=[])
+    files = RangedBagFiles(store, work / "ingest-cache", max_bytes=1 << 30, reads=READS)
+    assert Ingestor(catalog, files, files, store).ingest(record.id) == "ready"
+    ready = catalog.get(record.id)
+    assert ready is not None
+    return ready
+
+
+def requests_of(proxy: DelayProxy, run: Callable[[], object]) -> list[str]:
+    """The requests (method, path, range) that went through the proxy while ``run`` ran."""
+    before = proxy.counts().requests
+    run()
+    made = proxy.counts().requests - before
+    return list(proxy.recent)[-made:] if made else []
+
+
+@pytest.mark.parametrize("kind", BAG_KINDS)
+def test_a_cold_point_read_fetches_no_index_file_and_makes_few_requests(
+    proxied: tuple[S3Store, S3Store, DelayProxy], scenario_bags: dict[BagKind, Path], kind: BagKind, tmp_path: Path
+) -> None:
+    """Before: the index's 15 files, a HEAD per bag file, then the reads (19, 22 and 22 requests)."""
+    direct, counted, proxy = proxied
+    catalog = MemoryCatalog()
+    record = stored(direct, catalog, scenario_bags[kind], tmp_path)
+    assert len(record.index_files) > 5  # the scenario's topics are indexed: columns, fleet views, manifest
+    forget_topic_stats()  # as a fresh service process: ingest counted a .db3's rows in this one
+    access = BagAccess(catalog, RangedBagFiles(counted, tmp_path / "service", max_bytes=1 << 30, reads=READS))
+    params = MessageAtTimeParams(bag=record.name, topic="/odom", time=4.2)
+    answers: list[MessageAtTime] = []
+    point = requests_of(proxy, lambda: answers.append(get_message_at_time(access, params, budget_bytes=1 << 20)))
+    assert answers[0].message.time.offset_s == pytest.approx(4.2, abs=0.05)
+    assert not [r for r in point if "/indexes/" in r or r.startswith("HEAD")], point
+    assert len(point) <= MOST_REQUESTS[kind], point
+
+    def read_odom_column() -> None:
+        with access.open(record.name) as bag:
+            assert bag.index is not None
+            assert len(bag.index.read("/odom", []).t_ns) == bag.topic("/odom").count
+
+    columns = requests_of(proxy, read_odom_column)
+    assert sorted(r.rsplit("/", 1)[-1] for r in columns) == ["manifest.json", "odom.npz"]  # what is read, once
+    assert requests_of(proxy, read_odom_column) == []
