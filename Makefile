@@ -48,7 +48,7 @@ typecheck: install
 pytest: install browser  ## every test on two processes, a file per process at a time (its servers start once)
 	$(PY) -m pytest -n 2 --dist loadfile $(PYTEST_ARGS)
 
-unit: install  ## the tests that start no server, on two processes (pytest-xdist): ~130 s of CPU, so 65 s or more here
+unit: install  ## the tests that start no server, on two processes (pytest-xdist): about 150 s of CPU, 82 s here
 	$(PY) -m pytest -m 'not integration' -n 2 $(PYTEST_ARGS)
 
 test: lint typecheck browser pytest  ## everything CI checks (the browser tests included)
