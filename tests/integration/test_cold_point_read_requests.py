@@ -8,6 +8,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Iterator
 from pathlib import Path
+from typing import BinaryIO, cast
 
 import pytest
 
@@ -17,12 +18,15 @@ from bagmcp_bag_store.ingest.shelf import Shelf
 from bagmcp_bag_store.queries.messages import MessageAtTimeParams, get_message_at_time
 from bagmcp_bag_store.reports import MessageAtTime
 from bagmcp_shared.access import BagAccess, RangedBagFiles
+from bagmcp_shared.access.ranged import StoredFile
+from bagmcp_shared.bags.mcap_source import McapSource
 from bagmcp_shared.bags.sqlite3_source import forget_topic_stats
 from bagmcp_shared.catalog import BagRecord, MemoryCatalog
 from bagmcp_shared.settings import RangeReads
 from bagmcp_shared.storage import S3Store
 from bench.delay_proxy import DelayProxy, delay_proxy
 from tests.fixtures.bagfactory import BAG_KINDS, BagKind
+from tests.fixtures.mcap_cuts import data_section, write_mcap
 from tests.fixtures.servers import S3Endpoint
 from tests.integration.test_range_reads import s3_of
 
@@ -93,3 +97,29 @@ def test_a_cold_point_read_fetches_no_index_file_and_makes_few_requests(
     columns = requests_of(proxy, read_odom_column)
     assert sorted(r.rsplit("/", 1)[-1] for r in columns) == ["manifest.json", "odom.npz"]  # what is read, once
     assert requests_of(proxy, read_odom_column) == []
+
+
+def test_an_mcap_summary_of_many_blocks_is_fetched_in_one_request(
+    proxied: tuple[S3Store, S3Store, DelayProxy], tmp_path: Path
+) -> None:
+    """An MCAP of ~1,080 small chunks has a summary of ~100 KB, seven blocks before the prefetched end: opening
+    it reads the section in one ranged GET (the library's record-by-record read of it through the ranged
+    file made 3 here: a block, the next, then a read-ahead up to the prefetched end)."""
+    direct, counted, proxy = proxied
+    path = tmp_path / "many.mcap"
+    write_mcap(path, "none", count=3000, chunk_bytes=1000)
+    key = f"bags/many-{proxy.port}/many.mcap"
+    with path.open("rb") as stream:
+        etag = direct.put_stream(key, stream).etag
+    size = path.stat().st_size
+    summary_start = len(data_section(path))
+    assert size - summary_start > 6 * READS.block_bytes  # past the prefetched end block(s)
+    files = RangedBagFiles(counted, tmp_path / "service", max_bytes=1 << 30, reads=READS)
+    file = files.open_file(StoredFile("many", key, size, etag))
+    assert len(requests_of(proxy, file.prefetch_ends)) == 2  # the first block and the end, at once
+    opened: list[McapSource] = []
+    ranged = cast(BinaryIO, file)
+    opening = requests_of(proxy, lambda: opened.append(McapSource(Path("many.mcap"), stream=ranged, size=size)))
+    assert [(c.topic, c.count) for c in opened[0].connections] == [("/left", 1500), ("/right", 1500)]
+    opened[0].close()
+    assert len(opening) == 1, opening

@@ -1,6 +1,7 @@
 """MCAP files (bare or inside a ROS 2 bag directory).
 
-With a summary section the ``mcap`` library's chunk indexes serve topic and time queries.
+With a summary section the ``mcap`` library's chunk indexes serve topic and time queries (the summary
+read with one read of its section: ``mcap_summary``).
 Without one (a recording that was cut off) the file is read from start to end (see
 ``mcap_scan``): if the data ends on a record boundary everything is recovered and a note says
 so; if it ends inside a record the file is cut short, which is an error naming the cut record
@@ -11,14 +12,11 @@ from __future__ import annotations
 
 import base64
 import json
-import struct
 from collections.abc import Callable, Collection, Iterator
 from dataclasses import replace
 from pathlib import Path
 from typing import BinaryIO, TypeVar
 
-from mcap.exceptions import McapError
-from mcap.reader import SeekingReader
 from mcap.records import Channel, Message, Schema
 from mcap.summary import Summary
 from rosbags.typesys.msg import normalize_msgtype
@@ -29,6 +27,8 @@ from bagmcp_shared.bags.mcap_cut_text import cut_error, cut_note
 from bagmcp_shared.bags.mcap_lz4_bound import bound_library_lz4
 from bagmcp_shared.bags.mcap_records import RecordError
 from bagmcp_shared.bags.mcap_scan import scan, stream
+from bagmcp_shared.bags.mcap_summary import READ_ERRORS as _READ_ERRORS
+from bagmcp_shared.bags.mcap_summary import SummaryAtOnceReader
 from bagmcp_shared.bags.models import Compression, Connection, Encoding, RawMessage
 from bagmcp_shared.bags.plain_types import type_name
 from bagmcp_shared.bags.source import ListedSource
@@ -45,7 +45,6 @@ _SCHEMA_FORMATS = {"ros1msg": "msg", "ros2msg": "msg", "ros2idl": "idl", "jsonsc
 _SCHEMA_FORMATS |= {"protobuf": "protobuf", "data_tamer": "data_tamer"}
 _T = TypeVar("_T")
 bound_library_lz4()  # before any MCAP is read: the library's lz4 chunks within the memory budget
-_READ_ERRORS = (McapError, struct.error, ValueError, EOFError, RuntimeError)
 
 
 def _msgtype(name: str) -> str:
@@ -101,7 +100,7 @@ class McapSource(ListedSource):
 
     def _open(self, recover_truncated: bool) -> None:
         try:
-            reader = SeekingReader(self._file)
+            reader = SummaryAtOnceReader(self._file)
             self.profile = reader.get_header().profile
         except _READ_ERRORS as err:
             raise DamagedBagError(f"{self._path}: not a readable MCAP file ({err or type(err).__name__})") from err
@@ -128,7 +127,7 @@ class McapSource(ListedSource):
         except UnsupportedFormatError as err:
             raise UnsupportedFormatError(f"{self._path}: {err}") from err
 
-    def _read_summary(self, reader: SeekingReader) -> Summary | None:
+    def _read_summary(self, reader: SummaryAtOnceReader) -> Summary | None:
         try:
             summary = reader.get_summary()
         except _READ_ERRORS:

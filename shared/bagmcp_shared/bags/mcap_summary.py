@@ -1,0 +1,131 @@
+"""An MCAP file's summary section read with one read of the stream and parsed from memory.
+
+The ``mcap`` library's ``SeekingReader.get_summary`` parses the summary straight off the stream, record by
+record: every field is its own small ``read()``. On a ``RangedFile`` (team mode) each of those goes through
+Python-level block look-ups, and any part of the summary past the prefetched end is fetched as it is
+reached: on a 2 GB bag that was 150 ms of a 262 ms cold point read (issue 21). Here the footer says where
+the summary starts; the whole section (with the footer after it) is read at once and the same records are
+parsed from a ``BytesIO``, collected into a ``Summary`` as the library collects them.
+
+Whenever the quick way cannot tell what the library would do (the footer unreadable or inconsistent, the
+section past ``SUMMARY_AT_ONCE_MAX_BYTES``, the bytes failing to parse), the library's own ``get_summary``
+runs, so a damaged file gives exactly the errors or results it gave before.
+"""
+
+from __future__ import annotations
+
+import io
+import struct
+from typing import IO
+
+from mcap.exceptions import McapError
+from mcap.opcode import Opcode
+from mcap.reader import SeekingReader
+from mcap.records import AttachmentIndex, Channel, ChunkIndex, Footer, MetadataIndex, Schema, Statistics
+from mcap.stream_reader import StreamReader
+from mcap.summary import Summary
+
+from bagmcp_shared.bags.mcap_records import MAGIC_BYTES
+
+# A summary is small beside its bag: a chunk index is ~150 bytes with 8 channels (a file shaped like the 2 GB
+# bench bag, 2,000 chunks of 1 MiB, has a 307 KB summary), so 64 MiB holds some 400,000 chunk indexes, hundreds
+# of GB of recording. A footer may claim any start: a section past this is not loaded at once (the library
+# reads it record by record, as before), so a hostile footer cannot make one allocation of gigabytes.
+SUMMARY_AT_ONCE_MAX_BYTES = 64 << 20
+_FOOTER = struct.Struct("<BQQQI")  # opcode, content length, summary start, summary offset start, summary CRC
+_FOOTER_CONTENT_BYTES = _FOOTER.size - 9  # after the opcode and the length
+# What the mcap library raises on bytes it cannot parse (McapSource reports them as damage).
+READ_ERRORS = (McapError, struct.error, ValueError, EOFError, RuntimeError)
+
+
+class _NotAtOnceError(Exception):
+    """The summary cannot be read in one go here; the library's record-by-record read decides."""
+
+
+def _section_span(stream: IO[bytes]) -> tuple[int, int] | None:
+    """(summary start, footer end) from the footer; None when the footer says there is no summary."""
+    end = stream.seek(0, io.SEEK_END)
+    footer_at = end - MAGIC_BYTES - _FOOTER.size
+    if footer_at < MAGIC_BYTES:
+        raise _NotAtOnceError
+    stream.seek(footer_at)
+    raw = stream.read(_FOOTER.size)
+    if len(raw) != _FOOTER.size:
+        raise _NotAtOnceError
+    opcode, length, summary_start, _offsets, _crc = _FOOTER.unpack(raw)
+    if opcode != Opcode.FOOTER or length != _FOOTER_CONTENT_BYTES:
+        raise _NotAtOnceError
+    if summary_start == 0:
+        return None
+    if summary_start > footer_at or footer_at - summary_start > SUMMARY_AT_ONCE_MAX_BYTES:
+        raise _NotAtOnceError
+    return summary_start, footer_at + _FOOTER.size
+
+
+def _collected(section: bytes, record_size_limit: int | None) -> Summary | None:
+    """The summary records of ``section`` (the summary section and the footer after it), as the library
+    collects them: the last statistics record, schemas and channels by id, the indexes in file order, up to
+    the first footer (one whose summary start is 0 means no summary)."""
+    summary = Summary()
+    records = StreamReader(io.BytesIO(section), skip_magic=True, record_size_limit=record_size_limit).records
+    for record in records:
+        if isinstance(record, Statistics):
+            summary.statistics = record
+        elif isinstance(record, Schema):
+            summary.schemas[record.id] = record
+        elif isinstance(record, Channel):
+            summary.channels[record.id] = record
+        elif isinstance(record, AttachmentIndex):
+            summary.attachment_indexes.append(record)
+        elif isinstance(record, ChunkIndex):
+            summary.chunk_indexes.append(record)
+        elif isinstance(record, MetadataIndex):
+            summary.metadata_indexes.append(record)
+        elif isinstance(record, Footer):
+            return summary if record.summary_start else None
+    raise _NotAtOnceError  # not reached: the reader raises EndOfFile when the section ends without a footer
+
+
+def summary_at_once(stream: IO[bytes], record_size_limit: int | None) -> Summary | None:
+    """The summary of the MCAP file ``stream`` read with one read of its summary section (None when its
+    footer says it has none). Raises ``_NotAtOnceError`` when the library's own read must decide; errors of the
+    stream itself (a storage outage, a changed object) are raised as the library's reads raise them."""
+    span = _section_span(stream)
+    if span is None:
+        return None
+    start, stop = span
+    stream.seek(start)
+    section = stream.read(stop - start)
+    if len(section) != stop - start:
+        raise _NotAtOnceError
+    try:
+        return _collected(section, record_size_limit)
+    except READ_ERRORS as err:
+        raise _NotAtOnceError from err
+
+
+class SummaryAtOnceReader(SeekingReader):
+    """A ``SeekingReader`` whose summary is read with one read of the stream (``summary_at_once``).
+
+    A subclass overriding ``get_summary``, not the library's reader with its private ``_summary`` set from
+    outside: ``iter_messages`` and the other methods find the summary through ``get_summary``, so overriding
+    that public method puts every caller on this summary, and a library release that renames or drops its
+    private cache breaks nothing here. When the summary cannot be read at once, the library's
+    ``get_summary`` runs (and raises or returns what it always did)."""
+
+    def __init__(self, stream: IO[bytes], *, record_size_limit: int | None = 4 << 30) -> None:
+        super().__init__(stream, record_size_limit=record_size_limit)
+        self._source = stream
+        self._limit = record_size_limit
+        self._tried = False
+        self._at_once: Summary | None = None
+        self._library_decides = False
+
+    def get_summary(self) -> Summary | None:
+        if not self._tried:
+            try:
+                self._at_once = summary_at_once(self._source, self._limit)
+            except _NotAtOnceError:
+                self._library_decides = True
+            self._tried = True  # not when the stream failed (an outage): the next call reads again
+        return super().get_summary() if self._library_decides else self._at_once
