@@ -15,6 +15,7 @@ from bagmcp_lab.settings import ANY_BASE_URL, LabSettings
 from bagmcp_shared.settings import (
     DEFAULT_INPUT_BUDGET,
     DEFAULT_OPEN_BAGS,
+    DEFAULT_STOP_GRACE_S,
     LOOPBACK_HOSTS,
     Env,
     HttpSettings,
@@ -33,7 +34,7 @@ class EmbeddedSettings:
     data_dir: Path
     job_budget_s: float = 20.0
     allowed_hosts: tuple[str, ...] = ()
-    stop_grace_s: float = 8.0
+    stop_grace_s: float = DEFAULT_STOP_GRACE_S
     rate_limit: Limit | None = None
     open_bags: OpenBagLimits = DEFAULT_OPEN_BAGS
     input_budget: InputBudget = DEFAULT_INPUT_BUDGET
@@ -50,7 +51,7 @@ class EmbeddedSettings:
             data_dir=data_dir or default_data_dir(env) / folder_key(folder),
             job_budget_s=env.number("BAGMCP_JOB_BUDGET_S", 20.0),
             allowed_hosts=env.items("BAGMCP_ALLOWED_HOSTS"),
-            stop_grace_s=env.number("BAGMCP_STOP_GRACE_S", 8.0),
+            stop_grace_s=env.number("BAGMCP_STOP_GRACE_S", DEFAULT_STOP_GRACE_S),
             rate_limit=rate_limit_from_env(env, default_per_s=0.0),
             open_bags=OpenBagLimits.from_env(env),
             input_budget=InputBudget.from_env(env),

@@ -95,6 +95,9 @@ def host_patterns(names: Sequence[str]) -> tuple[str, ...]:
     return tuple(n if n.rsplit("]", 1)[-1].count(":") == 1 else f"{n}:*" for n in names if n)
 
 
+DEFAULT_STOP_GRACE_S = 8.0  # under Docker's 10 s before SIGKILL, so a stop ends on its own
+
+
 @dataclass(frozen=True)
 class HttpSettings:
     """Where a process listens and which Host headers it answers (DNS-rebinding protection)."""
@@ -102,7 +105,7 @@ class HttpSettings:
     host: str = "127.0.0.1"
     port: int = 8000
     allowed_hosts: tuple[str, ...] = LOOPBACK_HOSTS
-    stop_grace_s: float = 8.0  # under Docker's 10 s before SIGKILL, so a stop ends on its own
+    stop_grace_s: float = DEFAULT_STOP_GRACE_S
 
     @classmethod
     def from_env(cls, env: Env, *, port: int, extra_hosts: tuple[str, ...] = ()) -> HttpSettings:
@@ -110,7 +113,7 @@ class HttpSettings:
             host=env.text("BAGMCP_HOST", "127.0.0.1"),
             port=env.integer("BAGMCP_PORT", port),
             allowed_hosts=host_patterns(env.items("BAGMCP_ALLOWED_HOSTS", (*LOOPBACK_HOSTS, *extra_hosts))),
-            stop_grace_s=env.number("BAGMCP_STOP_GRACE_S", 8.0),
+            stop_grace_s=env.number("BAGMCP_STOP_GRACE_S", DEFAULT_STOP_GRACE_S),
         )
 
 

@@ -26,9 +26,10 @@ from tests.fixtures.servers import free_ports, remove_weed_sockets
 pytestmark = [pytest.mark.integration, pytest.mark.anyio]
 
 CALL_BUDGET_S = 60
-# On SIGTERM uvicorn waits for its open requests to end (a call waiting for an ingest, the gateway's links), so
-# the bag-store is killed when the grace a supervisor gives ends: 3 s here, as Docker's 10 s and the 15 s used
-# before only added waiting (13 s per stop, measured) to what the tests check.
+# On SIGTERM the bag-store waits for its open requests (a call waiting for an ingest, the gateway's links) for
+# the product's stop grace, BAGMCP_STOP_GRACE_S (1 s here, 8 s by default), then closes them and exits; the test
+# waits STOP_GRACE_S for that, as a supervisor would (Docker: 10 s), and kills it only past that.
+SERVICE_GRACE_S = 1
 STOP_GRACE_S = 3
 
 
@@ -46,7 +47,11 @@ def shared_stack(tmp_path_factory: pytest.TempPathFactory) -> Iterator[FaultStac
         for part in (redis, s3_server):
             exits.callback(part.stop, timeout_s=min(5, part.grace_s))
             part.start()
-        service = stack.start_service("bag-store", bag_store_port, env={"BAGMCP_JOB_BUDGET_S": str(CALL_BUDGET_S)})
+        service = stack.start_service(
+            "bag-store",
+            bag_store_port,
+            env={"BAGMCP_JOB_BUDGET_S": str(CALL_BUDGET_S), "BAGMCP_STOP_GRACE_S": str(SERVICE_GRACE_S)},
+        )
         exits.callback(service.stop, timeout_s=5)
         exits.callback(lambda: stack.gateway.stop(timeout_s=5) if stack.gateway else None)
         stack.start_gateway(gateway_port)

@@ -191,12 +191,11 @@ class CachedBagFiles:
         with self._locked(name):  # eviction takes the same lock, so it cannot remove the entry meanwhile
             complete = (root / _COMPLETE).exists()
             missing = [k for k in wanted if not (complete and (root / _base(k)).exists())]
-            present = not missing
             if missing:
                 self._fetch_objects(missing, root, into=complete)
             os.utime(root / _COMPLETE)
             self._checked[key] = time.monotonic()
-        if not present:  # only a fetch adds bytes
+        if missing:  # only a fetch adds bytes
             self._evict(keep={bag_id, f"{bag_id}-index"})
         return root
 
@@ -253,25 +252,21 @@ class CachedBagFiles:
         fsync in a local store: one after the other, a short bag's dozen small files cost more than indexing it).
         The record lists them only after every put succeeded (the first failure is raised here)."""
         names = sorted(p.name for p in built.iterdir() if p.is_file())
-        with ThreadPoolExecutor(max_workers=max(1, min(FETCHES_AT_ONCE, len(names)))) as pool:
-            list(
-                pool.map(
-                    self._store.put_file, [keys.index_file(record.id, n) for n in names], [built / n for n in names]
-                )
-            )
+        at_once([partial(self._store.put_file, keys.index_file(record.id, n), built / n) for n in names])
         return names
 
     def _fetch_objects(self, wanted: list[str], root: Path, *, into: bool) -> None:
         """Download the objects ``wanted`` into ``root`` (named by their last part), all or nothing: into the
         complete entry ``root`` when ``into`` (each file renamed in), else as a new entry replacing whatever
         is there, whose completion marker is written last, after the rename."""
-        partial = self._partials / f"{root.name}-{threading.get_ident()}"
-        shutil.rmtree(partial, ignore_errors=True)
-        partial.mkdir(parents=True)
+        scratch = self._partials / f"{root.name}-{threading.get_ident()}"
+        shutil.rmtree(scratch, ignore_errors=True)
+        scratch.mkdir(parents=True)
         try:
-            targets = [partial / _base(key) for key in wanted]
-            with ThreadPoolExecutor(max_workers=max(1, min(FETCHES_AT_ONCE, len(wanted)))) as pool:
-                list(pool.map(self._store.download_to, wanted, targets))  # the first failure is raised here
+            targets = [scratch / _base(key) for key in wanted]
+            at_once(
+                [partial(self._store.download_to, key, target) for key, target in zip(wanted, targets, strict=True)]
+            )
             fetched = sum(target.stat().st_size for target in targets)
             count_fetched(fetched)
             self.counters.add(whole_bytes=fetched)
@@ -280,10 +275,10 @@ class CachedBagFiles:
                     target.replace(root / target.name)
             else:
                 shutil.rmtree(root, ignore_errors=True)
-                partial.rename(root)
+                scratch.rename(root)
             (root / _COMPLETE).touch()
         finally:
-            shutil.rmtree(partial, ignore_errors=True)
+            shutil.rmtree(scratch, ignore_errors=True)
 
     def _entries(self) -> list[tuple[float, int, Path]]:
         """(last use, bytes, path) of every complete entry."""

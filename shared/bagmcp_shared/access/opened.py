@@ -19,6 +19,7 @@ from bagmcp_shared.timebase import Instant, TimeInput, iso_from_ns, parse_time
 SHORT_TOPIC = 5_000  # messages decoded inline, without a job
 
 
+@dataclass(frozen=True)
 class _Catalogued:
     """Times and name of a ready bag, from its record and catalog summary."""
 
@@ -42,8 +43,6 @@ class _Catalogued:
 class KnownBag(_Catalogued):
     """What the catalog knows about a ready bag: its record, summary and (when built) columnar index."""
 
-    record: BagRecord
-    summary: CatalogSummary
     index: ColumnIndex | None
 
 
@@ -54,8 +53,6 @@ class OpenBag(_Catalogued):
     The index is opened when a question first reads it, not with the bag: in team mode opening it fetches
     its manifest from the object store, a round trip a point read (which reads no index) would wait for."""
 
-    record: BagRecord
-    summary: CatalogSummary
     reader: BagReader
     open_index: Callable[[], ColumnIndex | None] = field(repr=False, compare=False)
 

@@ -15,6 +15,7 @@ import heapq
 import io
 from collections.abc import Callable, Collection, Iterator
 from dataclasses import dataclass, replace
+from itertools import pairwise
 from pathlib import Path
 from typing import BinaryIO, TypeVar
 
@@ -88,7 +89,7 @@ class Ros1RangeSource(ListedSource):
         self._by_id = {c.id: c for c in self._connections}
         if (hint := getattr(stream, "hint_records", None)) is not None:  # a chunk ends where the next starts
             starts = sorted(span.pos for span in self._chunks)
-            hint(list(zip(starts, [*starts[1:], self._index_pos][: len(starts)], strict=True)))  # none: no chunk
+            hint(list(pairwise([*starts, self._index_pos])))  # no chunk: an empty list
         self._bounds: dict[int, tuple[int, int] | None] = {}
         self._compression: Compression | None = None
 
