@@ -25,6 +25,7 @@ from bench.results import ModeResult, RunResult
 from bench.run import Plan, measure_mode
 from bench.servers import Served, embedded, stack
 from bench.stats import Timing
+from bench.uploads import cache_use
 from tests.fixtures.bagfactory import BAG_KINDS
 
 
@@ -53,7 +54,10 @@ def _parser() -> argparse.ArgumentParser:
     parser.add_argument("--size-gb", type=float, default=None, help="bag size (default 2, quick 0.05)")
     parser.add_argument("--repeat", type=int, default=None, help="warm calls per tool (default 9, quick 3)")
     parser.add_argument(
-        "--modes", default="embedded,stack,cold", help="of embedded, stack, cold (the stack's cold passes)"
+        "--modes",
+        default="embedded,stack,cold",
+        help="of embedded, stack, cold (the stack's cold passes), uploads (only the stack's timed uploads, which "
+        "every stack run makes)",
     )
     parser.add_argument("--formats", default=",".join(BAG_KINDS), help="bag formats measured")
     parser.add_argument("--cold-passes", default="cold,delayed,quarter", help="of cold, delayed, quarter")
@@ -86,7 +90,8 @@ def _serve_and_measure(run: RunResult, args: argparse.Namespace, preset: Preset,
     modes = args.modes.split(",")
     kinds = tuple(b.kind for b in run.bags)
     with tempfile.TemporaryDirectory(dir=args.dir, prefix="run-") as tmp:
-        for mode in [m for m in ("embedded", "stack") if m in modes or (m == "stack" and "cold" in modes)]:
+        stack_too = "cold" in modes or "uploads" in modes  # the stack is started for them without its calls
+        for mode in [m for m in ("embedded", "stack") if m in modes or (m == "stack" and stack_too)]:
             work = Path(tmp) / mode
             work.mkdir()
             plan = Plan(
@@ -106,9 +111,12 @@ def _serve_and_measure(run: RunResult, args: argparse.Namespace, preset: Preset,
             watch.phase = mode
             try:
                 with server as served:
+                    run.uploads += served.uploads
+                    _caches(run, served, "after the uploads")
                     if mode in modes:
                         measured = partial(measure_mode, served, run.bags, plan, began=time.monotonic())
                         run.modes.append(anyio.run(measured))
+                        _caches(run, served, "after the warm calls and loads")
                     if mode == "stack" and "cold" in modes:
                         passes = tuple(args.cold_passes.split(","))
                         chosen = QUICK_COLD_CALLS if args.quick else ()
@@ -128,6 +136,12 @@ def _serve_and_measure(run: RunResult, args: argparse.Namespace, preset: Preset,
                 traceback.print_exc()
                 run.modes.append(ModeResult(mode, error=f"{type(err).__name__}: {err}"[:500]))
             _save(run, args)
+
+
+def _caches(run: RunResult, served: Served, when: str) -> None:
+    """The stack's caches on disk at one moment, beside their bounds (issue 21: never above them)."""
+    if served.running is not None:
+        run.caches.append((when, cache_use(served.running)))
 
 
 def _saved_path(args: argparse.Namespace) -> Path:

@@ -10,6 +10,7 @@ from bench.machine import Machine
 from bench.measure import CallResult, LoadResult, Overhead
 from bench.profile import Profile
 from bench.stats import Timing
+from bench.uploads import CacheUse, UploadTiming
 
 GATEWAY_MEDIAN_MS, GATEWAY_P95_MS = 5.0, 10.0
 CHEAP_CALLS_PER_S, CHEAP_P99_MS = 200.0, 250.0
@@ -19,7 +20,8 @@ THROUGHPUT_CLIENTS = 20
 @dataclass
 class ModeResult:
     mode: str
-    ready_s: float = 0.0  # from start (embedded) or the end of the uploads (stack) until every bag is ready
+    # from start (embedded) or the end of the uploads (stack: each upload waits until ready, so about 0)
+    ready_s: float = 0.0
     bags: dict[str, list[CallResult]] = field(default_factory=dict)  # by bag kind
     overhead: list[Overhead] = field(default_factory=list)
     loads: list[LoadResult] = field(default_factory=list)
@@ -38,6 +40,8 @@ class RunResult:
     wall_s: float = 0.0
     cold: list[ColdPass] = field(default_factory=list)  # the stack's cold passes (bench/cold.py)
     load: list[tuple[str, float]] = field(default_factory=list)  # (phase, 1-minute load average) samples
+    uploads: list[UploadTiming] = field(default_factory=list)  # the stack's, each until ready (bench/uploads.py)
+    caches: list[tuple[str, list[CacheUse]]] = field(default_factory=list)  # (when, every process's cache)
 
 
 def cold_limit_ms(result: CallResult, floor: Timing | None) -> float | None:

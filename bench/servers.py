@@ -13,6 +13,7 @@ import anyio
 
 from bench.bags import BenchBag
 from bench.client import Endpoint
+from bench.uploads import UploadTiming, timed_upload
 from tests.fixtures.mcp_client import call, http_client
 from tests.fixtures.processes import BIN, http_ok, service
 from tests.fixtures.servers import _redis_process, _weed_process, free_port
@@ -33,6 +34,7 @@ class Served:
     direct: Endpoint | None = None
     running: Stack | None = None  # the stack's processes (for the cold passes' restarts)
     serves: int = 0  # bags it lists once ready (0: the measured ones; embedded serves the whole folder)
+    uploads: tuple[UploadTiming, ...] = ()  # the stack: each bag's upload until ready, one after the other
 
 
 async def wait_ready(endpoint: Endpoint, count: int, *, timeout_s: float = INGEST_TIMEOUT_S) -> None:
@@ -64,16 +66,16 @@ def embedded(folder: Path, work: Path) -> Iterator[Served]:
 
 @contextmanager
 def stack(bags: list[BenchBag], work: Path, *, extra_bytes: int = 0) -> Iterator[Served]:
-    """The local stack with ``bags`` uploaded through the gateway's REST API (room in S3 for
-    ``extra_bytes`` more: the cold passes' warm-up bags)."""
+    """The local stack with ``bags`` uploaded through the gateway's REST API, each timed until ready before
+    the next (room in S3 for ``extra_bytes`` more: the cold passes' warm-up bags)."""
     with ExitStack() as exits:
         redis_url = exits.enter_context(_redis_process())
         volumes = 16 + 2 * (extra_bytes + sum(b.size_bytes for b in bags)) // (64 * 2**20)  # 64 MB each, spare room
         s3 = exits.enter_context(_weed_process(volumes=volumes))
         running = start_stack(redis_url, s3, work, exits, env={"BAGMCP_JOB_BUDGET_S": JOB_BUDGET_S})
-        for bag in bags:
-            running.upload_ok(bag.path)
+        uploads = tuple(timed_upload(running, bag, timeout_s=INGEST_TIMEOUT_S) for bag in bags)
         processes = dict(running.processes)
         processes.update({f"{of} worker": proc for of, proc in running.workers})
         direct = Endpoint(f"{running.bag_store_url}/mcp", SERVICE_TOKEN)
-        yield Served("stack", Endpoint(f"{running.url}/mcp", TOKEN), processes, direct, running)
+        endpoint = Endpoint(f"{running.url}/mcp", TOKEN)
+        yield Served("stack", endpoint, processes, direct, running, uploads=uploads)

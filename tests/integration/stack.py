@@ -56,12 +56,14 @@ class Stack:
     service_urls: dict[str, str] = field(default_factory=dict)
     workers: list[tuple[str, subprocess.Popen[bytes]]] = field(default_factory=list)
     processes: dict[str, subprocess.Popen[bytes]] = field(default_factory=dict)
+    data_dirs: dict[str, Path] = field(default_factory=dict)  # each service's and worker's BAGMCP_DATA_DIR
 
     def start_worker(self, of: str = "bag-store") -> subprocess.Popen[bytes]:
         """A worker of one service (it takes only that service's queue)."""
         name = f"{of}-worker-{len(self.workers) + 1}"
         command = [str(BIN / "celery"), "-A", f"{SERVICES[of]}.worker:app", *WORKER_FLAGS]
-        env = {**self.worker_env, "BAGMCP_DATA_DIR": str(self.logs.parent / name)}
+        self.data_dirs[name] = self.logs.parent / name
+        env = {**self.worker_env, "BAGMCP_DATA_DIR": str(self.data_dirs[name])}
         proc = self.exits.enter_context(service(name, command, env=env, log_dir=self.logs))
         self.workers.append((of, proc))
         return proc
@@ -144,9 +146,9 @@ def start_stack(
         **(env or {}),
     }
     urls = {name: f"http://127.0.0.1:{ports[name]}" for name in SERVICES}
-    processes = {}
+    processes, data_dirs = {}, {}
     for name, package in SERVICES.items():
-        data = store_data if name == "bag-store" else work / name
+        data = data_dirs[name] = store_data if name == "bag-store" else work / name
         processes[name] = exits.enter_context(
             service(
                 name,
@@ -157,7 +159,7 @@ def start_stack(
             )
         )
     stack = Stack(gateway_url, urls["bag-store"], s3, bucket, logs, store_data, dict(common), exits, redis_url, urls)
-    stack.processes = processes
+    stack.processes, stack.data_dirs = processes, data_dirs
     for name in SERVICES:
         stack.start_worker(name)
     stack.processes["gateway"] = exits.enter_context(run_gateway(stack, "gateway", ports["gateway"], {}))

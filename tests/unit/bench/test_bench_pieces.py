@@ -12,7 +12,7 @@ from bagmcp_shared.bags import open_bag
 from bench import drive
 from bench.bags import BenchBag, bench_bags
 from bench.calls import CALLS
-from bench.floors import FLOORS, measure_floors
+from bench.floors import FLOORS, measure_floors, read_topic
 from bench.machine import Machine
 from bench.measure import CallResult, LoadResult, Overhead
 from bench.profile import summarize
@@ -52,6 +52,14 @@ def test_every_floor_decodes_messages_of_every_bag(tiny: list[BenchBag]) -> None
         floors = measure_floors(bag.path, bag.duration_s, repeats=1)
         assert set(floors) == {f.key for f in FLOORS}
         assert all(len(t) == 1 for t in floors.values())
+
+
+def test_the_full_decode_floor_decodes_every_message_of_every_topic(tiny: list[BenchBag]) -> None:
+    for bag in tiny:
+        with open_bag(bag.path) as reader:
+            total = sum(t.count for t in reader.summary().topics)
+        assert total > 201 + 201 + 21 + 21 + 41 + 3  # the drive's topics, /tf_static too
+        assert read_topic(bag.path, None) == total
 
 
 def _timing(*ms: float) -> Timing:
