@@ -15,6 +15,7 @@ from __future__ import annotations
 import logging
 import time
 from dataclasses import dataclass, field
+from functools import cached_property
 from typing import Any
 
 import anyio
@@ -28,7 +29,7 @@ from mcp.shared.inbound import x_mcp_header_map
 
 from bagmcp_gateway.upstreams.connections import Connections, failure_text
 from bagmcp_gateway.upstreams.instructions import merged_instructions
-from bagmcp_gateway.upstreams.readiness import dependencies_of
+from bagmcp_gateway.upstreams.readiness import dependencies_of, readyz_url
 from bagmcp_gateway.upstreams.resource_routes import ResourceRoutes, UpstreamResources
 from bagmcp_gateway.upstreams.upstream import GatewayConfigError, Upstream
 
@@ -103,11 +104,16 @@ class ToolCatalog:
         self._born = time.monotonic()
         self._waited: set[str] = set()
         self._seen_up: set[str] = set()
-        self._http = httpx.AsyncClient()
         self._down = {u.name: anyio.Event() for u in upstreams}  # set (and replaced) each time one is found down
         self._rechecking = {u.name: anyio.Lock() for u in upstreams}
         self._rechecked: dict[str, float] = {}
         bus.subscribe(self._heard)  # a change another replica noticed: re-list here too
+
+    @cached_property
+    def _readiness_http(self) -> httpx.AsyncClient:
+        """The client that reads upstreams' /readyz, made when an upstream over HTTP is first listed: one in
+        memory (embedded mode) has no /readyz, and each client builds a TLS context (about 20 ms of CPU)."""
+        return httpx.AsyncClient()
 
     async def _list(self, upstream: Upstream) -> UpstreamState:
         with anyio.fail_after(upstream.timeout_s):
@@ -127,7 +133,8 @@ class ToolCatalog:
             self._down.pop(upstream.name, anyio.Event()).set()
             self._down[upstream.name] = anyio.Event()
             return
-        listed.dependencies = await dependencies_of(upstream, self._http)
+        if readyz_url(upstream) is not None:
+            listed.dependencies = await dependencies_of(upstream, self._readiness_http)
         self._seen_up.add(upstream.name)
         if not state.up or [t.name for t in listed.tools] != [t.name for t in state.tools]:
             log.info("upstream %s is up with %d tools", upstream.name, len(listed.tools))

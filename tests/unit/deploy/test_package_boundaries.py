@@ -9,6 +9,7 @@ from __future__ import annotations
 import ast
 import tomllib
 from collections.abc import Iterator
+from functools import cache
 from pathlib import Path
 
 import pytest
@@ -59,7 +60,7 @@ FLOORS: dict[str, tuple[str | tuple[str, ...], ...]] = {
 def imported_packages(source: Path) -> set[str]:
     """The top-level `bagmcp_*` packages a file imports (absolute imports only; relative ones stay inside)."""
     found: set[str] = set()
-    for node in ast.walk(ast.parse(source.read_text(), filename=str(source))):
+    for node in _nodes(source):
         if isinstance(node, ast.Import):
             found.update(alias.name.split(".")[0] for alias in node.names)
         elif isinstance(node, ast.ImportFrom) and node.level == 0 and node.module:
@@ -87,12 +88,18 @@ def test_the_check_sees_a_crossing(tmp_path: Path) -> None:
     assert imported_packages(source) == {"bagmcp_bag_store", "bagmcp_kit"}
 
 
+@cache
+def _nodes(source: Path) -> list[ast.AST]:
+    """Every node of a file, parsed once per run (three checks read each product file)."""
+    return list(ast.walk(ast.parse(source.read_text(), filename=str(source))))
+
+
 def imported_modules(source: Path, module: str) -> set[str]:
     """Dotted names a file imports, relative imports resolved against ``module`` (its own dotted name);
     ``from a.b import c`` gives ``a.b.c``, which is a module or a name in one (either way inside ``a.b``)."""
     package = module.split(".") if source.name == "__init__.py" else module.split(".")[:-1]
     found: set[str] = set()
-    for node in ast.walk(ast.parse(source.read_text(), filename=str(source))):
+    for node in _nodes(source):
         if isinstance(node, ast.Import):
             found.update(alias.name for alias in node.names)
         elif isinstance(node, ast.ImportFrom):

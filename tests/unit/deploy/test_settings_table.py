@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import ast
 import re
+from functools import cache
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[3]
@@ -16,6 +17,7 @@ NAME = re.compile(r"BAGMCP_[A-Z0-9_]+")
 ROW = re.compile(r"^\| `(BAGMCP_[A-Z0-9_]+)` \|", re.MULTILINE)
 
 
+@cache  # both tests read it: parsing every product file takes most of their time
 def names_in_code() -> dict[str, Path]:
     found: dict[str, Path] = {}
     for folder in PRODUCT:
