@@ -4,6 +4,11 @@ VENV   := .venv
 PY     := $(VENV)/bin/python
 BAGS   ?= ../shared/data/bags
 STAMP  := $(VENV)/.installed-stamp
+# Compiled bytecode is kept even where the environment says not to write it (this workplace sets
+# PYTHONDONTWRITEBYTECODE=1): every test process and every process of the stacks the tests start imports the
+# product's own packages, which pip installs editable (no .pyc); compiling them from source again costs each
+# process about 0.45 s of CPU (2.40 against 1.96 s to import a plotting worker), hundreds of times in `make test`.
+export PYTHONDONTWRITEBYTECODE :=
 PACKAGES := shared/pyproject.toml kit/pyproject.toml gateway/pyproject.toml services/bag_store/pyproject.toml services/analysis/pyproject.toml services/plotting/pyproject.toml lab/pyproject.toml cli/pyproject.toml
 
 .PHONY: install run stack test lint typecheck pytest browser bench bench-fleet bench-quick docs-images lock clean
@@ -48,7 +53,7 @@ typecheck: install
 pytest: install browser  ## every test on two processes, a file per process at a time (its servers start once)
 	$(PY) -m pytest -n 2 --dist loadfile $(PYTEST_ARGS)
 
-unit: install  ## the tests that start no server, on two processes (pytest-xdist): about 150 s of CPU, 82 s here
+unit: install  ## the tests that start no server, on two processes (pytest-xdist): about 80 s of CPU, 43 s here
 	$(PY) -m pytest -m 'not integration' -n 2 $(PYTEST_ARGS)
 
 test: lint typecheck browser pytest  ## everything CI checks (the browser tests included)
