@@ -22,6 +22,7 @@ from mcap.summary import Summary
 from rosbags.typesys.msg import normalize_msgtype
 
 from bagmcp_shared.bags.json_types import infer_schema
+from bagmcp_shared.bags.mcap_bounds import indexed_bounds
 from bagmcp_shared.bags.mcap_chunk_budget import check_chunks
 from bagmcp_shared.bags.mcap_cut_text import cut_error, cut_note
 from bagmcp_shared.bags.mcap_lz4_bound import bound_library_lz4
@@ -199,7 +200,11 @@ class McapSource(ListedSource):
     def bounds(self, connection_id: int) -> tuple[int, int] | None:
         if self._summary is None:
             return self._bounds.get(connection_id)
-        if connection_id not in self._bounds:
+        if connection_id not in self._bounds and (
+            found := indexed_bounds(self._file, self._summary.chunk_indexes, connection_id)
+        ):
+            self._bounds[connection_id] = found
+        if connection_id not in self._bounds:  # no message index to read: the first and last messages
             first = next(self._indexed([connection_id], None, None, reverse=False), None)
             last = next(self._indexed([connection_id], None, None, reverse=True), None)
             if first is None or last is None:

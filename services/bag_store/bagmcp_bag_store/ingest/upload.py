@@ -147,7 +147,9 @@ def store_upload(
         try:
             root, files, sha, notes = _layout(received, staging, filename, policy)
             with open_bag(root) as bag:
-                bag.summary()
+                bag.summary()  # from the bag's index or summary section where it has one
+                next(iter(bag.messages()), None)  # the first chunk decompresses: a bag whose data does not even
+                # start is refused here (422) instead of failing its ingest later
         except BagError as err:  # name the upload, not the server's temporary paths
             raise type(err)(re.sub(rf"{re.escape(str(policy.upload_dir))}[^\s:]*", filename, str(err))) from err
         shelf = policy.shelf
