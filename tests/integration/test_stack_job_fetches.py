@@ -16,10 +16,9 @@ import redis
 from mcp import Client
 from mcp.types import CallToolResult
 
-from bagmcp_kit.fetch_meta import FETCHED_META_KEY
 from bagmcp_shared.jobs.store import RedisJobStore
 from tests.fixtures.bagfactory import write_transform_bag
-from tests.fixtures.mcp_client import http_client
+from tests.fixtures.mcp_client import fetched_meta, http_client
 from tests.fixtures.processes import BIN, http_ok, service, wait_until
 from tests.fixtures.servers import free_ports
 from tests.integration.stack import Stack, new_token, run_gateway, service_counters
@@ -35,11 +34,6 @@ def fetched_by(url: str, process: str) -> int:
     """Bytes ``process`` ("service" or "workers") of the service at ``url`` fetched from S3, by its /metrics."""
     counters = service_counters(url)[process]
     return sum(counters[name] for name in FETCHED)
-
-
-def fetched(result: CallToolResult) -> Any:
-    assert not result.is_error, result
-    return (result.meta or {}).get(FETCHED_META_KEY)
 
 
 def audited(log: Path, token: str, tool: str) -> list[Any]:
@@ -96,10 +90,10 @@ async def test_a_long_call_that_waited_for_its_job_names_the_bytes_the_worker_fe
         assert isinstance(first.structured_content, dict)
         assert "result" in first.structured_content, first.structured_content  # waited for the job
         again = await client.call_tool("analyze_trajectory", {"bag": name})
-    figure = fetched(first)
+    figure = fetched_meta(first)
     assert isinstance(figure, int)
     assert figure > 0
-    assert fetched(again) is None  # the worker's block cache and opened bag answer it: nothing fetched
+    assert fetched_meta(again) is None  # the worker's block cache and opened bag answer it: nothing fetched
     job_part = figure - (fetched_by(analysis, "service") - service_before)  # what the service fetched itself
     assert job_part > 0  # the worker fetched the poses' pages
 
@@ -124,8 +118,8 @@ async def test_a_job_followed_with_get_job_names_its_bytes_on_get_jobs_audit_lin
     job = RedisJobStore(redis.Redis.from_url(stack.redis_url)).get(first_id)
     assert job is not None
     assert job.fetched_bytes > 0
-    assert fetched(first) == job.fetched_bytes
-    assert fetched(again) is None  # the worker's block cache and opened bag answer it: nothing fetched
+    assert fetched_meta(first) == job.fetched_bytes
+    assert fetched_meta(again) is None  # the worker's block cache and opened bag answer it: nothing fetched
 
     def counted() -> bool:
         return fetched_by(analysis, "workers") - workers_before >= job.fetched_bytes

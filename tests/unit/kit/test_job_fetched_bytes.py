@@ -14,13 +14,11 @@ from typing import Annotated
 import anyio
 import pytest
 from mcp import Client
-from mcp.types import CallToolResult
 from pydantic import BaseModel, Field
 
 from bagmcp_gateway.mcp_front.aggregator import build_gateway_server
 from bagmcp_gateway.upstreams.upstream import Upstream
 from bagmcp_kit.declared import Declared, ServiceTools
-from bagmcp_kit.fetch_meta import FETCHED_META_KEY
 from bagmcp_kit.job_tools import build_jobs_server
 from bagmcp_kit.longwork import LongWork
 from bagmcp_kit.runtime.resources import embedded_resources
@@ -28,6 +26,7 @@ from bagmcp_kit.server import new_server
 from bagmcp_shared.fetch_tally import count_fetched
 from bagmcp_shared.jobs import Progress, run_job
 from bagmcp_shared.tasks import TaskRef
+from tests.fixtures.mcp_client import fetched_meta
 
 pytestmark = pytest.mark.anyio
 RUN_JOB = TaskRef("bagmcp.reads.run_job", "reads")
@@ -92,18 +91,13 @@ def hasty(tmp_path: Path) -> Iterator[Served]:
     yield from served(tmp_path, 0.0)
 
 
-def fetched(result: CallToolResult) -> object:
-    assert not result.is_error, result
-    return (result.meta or {}).get(FETCHED_META_KEY)
-
-
 async def test_a_call_that_waited_for_its_job_names_the_bytes_the_job_fetched(patient: Served) -> None:
     async with Client(build_gateway_server(patient.upstreams), cache=None) as client:
         done = await client.call_tool("read_blocks", {"blocks": 3})
         none = await client.call_tool("read_blocks", {"blocks": 0})
     assert done.structured_content == {"result": {"blocks": 3}}
-    assert fetched(done) == 3 * BLOCK
-    assert fetched(none) is None  # nothing fetched: no figure, as for a short call
+    assert fetched_meta(done) == 3 * BLOCK
+    assert fetched_meta(none) is None  # nothing fetched: no figure, as for a short call
 
 
 async def test_a_job_followed_with_get_job_names_its_bytes_on_get_jobs_answer_once_it_ended(
@@ -113,9 +107,9 @@ async def test_a_job_followed_with_get_job_names_its_bytes_on_get_jobs_answer_on
         started = await client.call_tool("read_blocks", {"blocks": 2})
         assert isinstance(started.structured_content, dict)
         assert "job" in started.structured_content
-        assert fetched(started) is None  # not ended yet: nothing known
+        assert fetched_meta(started) is None  # not ended yet: nothing known
         job_id = started.structured_content["job"]["job_id"]
-        assert fetched(await client.call_tool("get_job", {"job_id": job_id})) is None
+        assert fetched_meta(await client.call_tool("get_job", {"job_id": job_id})) is None
         hasty.go.set()
         with anyio.fail_after(10):
             while (answer := await client.call_tool("get_job", {"job_id": job_id})).structured_content[
@@ -123,4 +117,4 @@ async def test_a_job_followed_with_get_job_names_its_bytes_on_get_jobs_answer_on
             ] != "succeeded":
                 await anyio.sleep(0.02)
     assert answer.structured_content["result"] == {"blocks": 2}
-    assert fetched(answer) == 2 * BLOCK
+    assert fetched_meta(answer) == 2 * BLOCK

@@ -9,23 +9,13 @@ import pytest
 
 from bagmcp_shared.bags import Compression, open_bag
 from tests.fixtures.bagfactory import BagKind
-from tests.fixtures.compressed_bags import COMPRESSED_KINDS, CompressedKind, write_compressed
-
-EXPECTED: dict[CompressedKind, Compression] = {
-    "ros1-bz2": Compression.BZ2,
-    "ros1-lz4": Compression.LZ4,
-    "mcap-zstd": Compression.ZSTD,
-    "mcap-lz4": Compression.LZ4,
-    "mcap-zstd-file": Compression.ZSTD_FILE,
-    "sqlite3-zstd-file": Compression.ZSTD_FILE,
-    "sqlite3-zstd-message": Compression.ZSTD_MESSAGE,
-}
+from tests.fixtures.compressed_bags import COMPRESSED_KINDS, COMPRESSION_OF, CompressedKind, write_compressed
 
 
 @pytest.mark.parametrize("kind", COMPRESSED_KINDS)
 def test_the_reader_reports_the_compression_a_bag_was_written_with(tmp_path: Path, kind: CompressedKind) -> None:
     with open_bag(write_compressed(kind, tmp_path)) as bag:
-        assert bag.compression is EXPECTED[kind]
+        assert bag.compression is COMPRESSION_OF[kind]
 
 
 def test_uncompressed_bags_report_none(scenario_bags: dict[BagKind, Path]) -> None:

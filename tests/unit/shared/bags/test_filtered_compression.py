@@ -22,21 +22,13 @@ from tests.fixtures import scenario as sc
 from tests.fixtures.bagfactory import BagKind
 from tests.fixtures.compressed_bags import (
     COMPRESSED_KINDS,
+    COMPRESSION_OF,
     CompressedKind,
     size_bytes,
     stored_compression,
     write_compressed,
 )
 
-SOURCE_COMPRESSION: dict[CompressedKind, Compression] = {
-    "ros1-bz2": Compression.BZ2,
-    "ros1-lz4": Compression.LZ4,
-    "mcap-zstd": Compression.ZSTD,
-    "mcap-lz4": Compression.LZ4,
-    "mcap-zstd-file": Compression.ZSTD_FILE,
-    "sqlite3-zstd-file": Compression.ZSTD_FILE,
-    "sqlite3-zstd-message": Compression.ZSTD_MESSAGE,
-}
 DROP = FilterSpec(exclude_topics=(sc.SCAN_TOPIC, sc.TF_TOPIC))
 KEPT = sorted(set(sc.COUNTS) - {sc.SCAN_TOPIC, sc.TF_TOPIC})
 
@@ -96,11 +88,11 @@ def copies(
 
 def test_the_generated_sources_are_compressed_as_intended(compressed: dict[CompressedKind, Path]) -> None:
     stored = {kind: stored_compression(path) for kind, path in compressed.items()}
-    assert stored == {kind: {c.value} for kind, c in SOURCE_COMPRESSION.items()}
+    assert stored == {kind: {c.value} for kind, c in COMPRESSION_OF.items()}
 
 
 def test_a_filtered_copy_is_compressed_like_its_source(copies: Copies) -> None:
-    expected = SOURCE_COMPRESSION[copies.kind]
+    expected = COMPRESSION_OF[copies.kind]
     assert copies.first.compression is expected
     assert copies.first.compression_note == f"{expected.label}, as in the source"
     assert stored_compression(copies.first.path) == {expected.value}
@@ -179,7 +171,7 @@ def test_a_compressed_source_converted_to_another_format_gets_that_formats_usual
     expected: Compression,
 ) -> None:
     result = _filter(compressed[kind], tmp_path, fmt=fmt)
-    source = SOURCE_COMPRESSION[kind]
+    source = COMPRESSION_OF[kind]
     assert result.compression is expected
     assert result.compression_note == f"{expected.label}, the {fmt.value} counterpart of the source's {source.label}"
     assert stored_compression(result.path) == {expected.value}
