@@ -73,6 +73,36 @@ def test_generated_bags_read_by_their_index_alone_equal_rosbags(tmp_path: Path) 
     assert_same(write_drive_bag("ros1", tmp_path))
 
 
+class ReadsCounted(HintedFile):
+    """A hinted file that records where each read starts."""
+
+    def __init__(self, path: Path) -> None:
+        super().__init__(path)
+        self.starts: list[int] = []
+
+    def read(self, size: int | None = -1, /) -> bytes:
+        self.starts.append(self.tell())
+        return super().read(size)
+
+
+def test_a_stored_objects_compression_reads_three_chunks_not_every_one(tmp_path: Path) -> None:
+    """A ranged file fetches a hinted chunk whole when any of it is read, so reading every chunk's header fetched
+    the whole bag for filter_bag (1,552 MB of a 2 GB bag); the first, middle and last chunk decide instead."""
+    path = write_drive_bag("ros1", tmp_path)
+    stream = ReadsCounted(path)
+    ranged, local = Ros1RangeSource(path, stream), Ros1Source(path)
+    try:
+        chunks = stream.hints[0]
+        assert len(chunks) > 3  # one chunk is left unread
+        stream.starts.clear()
+        assert ranged.compression is local.compression
+        touched = {chunk for chunk in chunks for at in stream.starts if chunk[0] <= at < chunk[1]}
+        assert touched == {chunks[0], chunks[len(chunks) // 2], chunks[-1]}
+    finally:
+        ranged.close()
+        local.close()
+
+
 def test_a_bag_whose_index_is_cut_off_is_damaged_and_named(corpus: Path) -> None:
     path = corpus / "edge_cases/ros1_truncated_invalid.bag"
     damaged = r"ros1_truncated_invalid.bag: the ROS 1 bag's index is damaged"
