@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import io
 import struct
-from typing import IO
+from typing import IO, Literal
 
 from mcap.exceptions import McapError
 from mcap.opcode import Opcode
@@ -117,15 +117,13 @@ class SummaryAtOnceReader(SeekingReader):
         super().__init__(stream, record_size_limit=record_size_limit)
         self._source = stream
         self._limit = record_size_limit
-        self._tried = False
+        self._how: Literal["unread", "at once", "library"] = "unread"
         self._at_once: Summary | None = None
-        self._library_decides = False
 
     def get_summary(self) -> Summary | None:
-        if not self._tried:
+        if self._how == "unread":  # stays unread when the stream failed (an outage): the next call reads again
             try:
-                self._at_once = summary_at_once(self._source, self._limit)
+                self._at_once, self._how = summary_at_once(self._source, self._limit), "at once"
             except _NotAtOnceError:
-                self._library_decides = True
-            self._tried = True  # not when the stream failed (an outage): the next call reads again
-        return super().get_summary() if self._library_decides else self._at_once
+                self._how = "library"
+        return super().get_summary() if self._how == "library" else self._at_once
