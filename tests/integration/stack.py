@@ -178,7 +178,6 @@ def gateway_env(stack: Stack, port: int, extra: dict[str, str]) -> dict[str, str
         "BAGMCP_REDIS_URL": stack.redis_url,
         "BAGMCP_RATE_LIMIT_PER_S": "1000",
         "BAGMCP_RATE_BURST": "1000",
-        "BAGMCP_UPSTREAM_POLL_S": "1",
         **extra,
     }
 

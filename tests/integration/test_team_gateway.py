@@ -286,7 +286,9 @@ async def test_a_stopped_upstream_leaves_the_list_and_comes_back_and_clients_are
     answering = http_ok(f"{analysis_url}/healthz")
     analysis = service("analysis-flaky", command, env=env, log_dir=tmp_path, ready=answering, stop_timeout_s=2)
     analysis.__enter__()
-    with run_gateway(stack, "gateway-flaky", port, {"BAGMCP_UPSTREAMS": upstreams}):
+    # no polling (600 s): the analysis service's change stream, dropped when it stops and back when it is,
+    # tells the gateway both times (before, the stop was seen only at the next poll)
+    with run_gateway(stack, "gateway-flaky", port, {"BAGMCP_UPSTREAMS": upstreams, "BAGMCP_UPSTREAM_POLL_S": "600"}):
         url = f"http://127.0.0.1:{port}"
         async with http_client(f"{url}/mcp", TOKEN) as client, anyio.create_task_group() as group:
             assert "analyze_trajectory" in await tool_names(url, TOKEN)

@@ -254,8 +254,11 @@ class ToolCatalog:
                 await self.refresh_all()
 
     async def _follow(self, upstream: Upstream) -> None:
-        """Re-list as soon as ``upstream`` says its tools changed; after a lost stream, once it is back
-        (a change may have gone unheard meanwhile). Servers that cannot stream changes are polled only."""
+        """Re-list as soon as ``upstream`` says its tools changed; when its stream is lost (a stopped or
+        restarting service drops it at once), so the catalog has it down now rather than at the next poll;
+        and once it is back (a change may have gone unheard meanwhile). Servers that cannot stream changes are
+        polled only. Polling stays the backstop for a service that stops answering without closing its
+        connections (a frozen host): its listing then fails after the upstream's timeout."""
         lost = False
         while True:
             try:
@@ -265,6 +268,7 @@ class ToolCatalog:
                 ):
                     if lost:
                         self._wake.set()
+                    lost = False
                     async for _change in changes:
                         self._wake.set()
             except Exception as err:  # down or dropped: try again shortly
@@ -272,6 +276,8 @@ class ToolCatalog:
                     log.info("upstream %s cannot announce tool changes: polled only", upstream.name)
                     return
                 log.debug("change stream of upstream %s lost: %s", upstream.name, err)
+            if not lost:
+                self._wake.set()  # once per loss, not on every failed reconnect while it stays down
             lost = True
             await anyio.sleep(self._retry_s)
 
