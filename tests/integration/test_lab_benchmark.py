@@ -14,7 +14,6 @@ import pytest
 from PIL import Image
 
 from tests.fixtures.bagfactory import BagKind
-from tests.fixtures.drive_bags import write_drive_bags
 from tests.fixtures.drive_images import HEIGHT, IMAGE_TOPICS, WIDTH
 from tests.fixtures.inprocess import copy_bags
 from tests.fixtures.lab_runs import KEY_VARIABLE, PAPER_TASK_IDS, by_task, lab_run, results, served_folder
@@ -29,10 +28,9 @@ RESULT_FIELDS = {
 
 
 @pytest.fixture(scope="module")
-def served(tmp_path_factory: pytest.TempPathFactory) -> Iterator[str]:
+def served(tmp_path_factory: pytest.TempPathFactory, drive_bags: dict[BagKind, Path]) -> Iterator[str]:
     """`bagmcp serve` over the drive bag in three formats; the MCP URL."""
-    drive: dict[BagKind, Path] = write_drive_bags(tmp_path_factory.mktemp("drive"))
-    folder = copy_bags(list(drive.values()), tmp_path_factory.mktemp("served") / "bags")
+    folder = copy_bags(list(drive_bags.values()), tmp_path_factory.mktemp("served") / "bags")
     with served_folder(folder, tmp_path_factory.mktemp("lab-serve"), name="lab-serve") as (url, _log):
         yield f"{url}/mcp"
 
