@@ -9,12 +9,14 @@ import pytest
 
 from bagmcp_shared.bags import Compression, open_bag
 from tests.fixtures.bagfactory import BagKind
-from tests.fixtures.compressed_bags import COMPRESSED_KINDS, COMPRESSION_OF, CompressedKind, write_compressed
+from tests.fixtures.compressed_bags import COMPRESSED_KINDS, COMPRESSION_OF, CompressedKind
 
 
 @pytest.mark.parametrize("kind", COMPRESSED_KINDS)
-def test_the_reader_reports_the_compression_a_bag_was_written_with(tmp_path: Path, kind: CompressedKind) -> None:
-    with open_bag(write_compressed(kind, tmp_path)) as bag:
+def test_the_reader_reports_the_compression_a_bag_was_written_with(
+    compressed_bags: dict[CompressedKind, Path], kind: CompressedKind
+) -> None:
+    with open_bag(compressed_bags[kind]) as bag:
         assert bag.compression is COMPRESSION_OF[kind]
 
 

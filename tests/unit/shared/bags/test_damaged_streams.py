@@ -13,13 +13,14 @@ from bagmcp_shared import budget
 from bagmcp_shared.bags import open_bag
 from bagmcp_shared.errors import DamagedBagError, UnsupportedFormatError
 from bagmcp_shared.settings import InputBudget
-from tests.fixtures.compressed_bags import CompressedKind, write_compressed
+from tests.fixtures.compressed_bags import CompressedKind
 from tests.fixtures.damage import (
     corrupt_at,
     corrupt_db3_message,
     corrupt_mcap_chunk,
     corrupt_ros1_chunk,
 )
+from tests.fixtures.inprocess import copy_bags
 from tests.fixtures.mcap_cuts import write_mcap
 
 
@@ -47,9 +48,9 @@ def _storage(bag: Path) -> Path:
     ],
 )
 def test_data_that_does_not_decompress_is_a_damaged_bag_error_naming_the_file(
-    tmp_path: Path, kind: CompressedKind, damage: object
+    tmp_path: Path, compressed_bags: dict[CompressedKind, Path], kind: CompressedKind, damage: object
 ) -> None:
-    path = write_compressed(kind, tmp_path)
+    path = copy_bags([compressed_bags[kind]], tmp_path) / compressed_bags[kind].name
     assert callable(damage)
     damage(path)
     with pytest.raises(DamagedBagError) as caught:
@@ -87,10 +88,11 @@ def test_an_indexed_mcap_with_a_damaged_first_chunk_opens_from_its_indexes_and_f
 
 
 def test_a_compressed_storage_file_that_expands_like_a_bomb_is_refused_while_it_is_written(
-    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+    tmp_path: Path, compressed_bags: dict[CompressedKind, Path], monkeypatch: pytest.MonkeyPatch
 ) -> None:
     monkeypatch.setattr(budget, "_current", InputBudget(expansion_floor_bytes=1 << 20))
-    bag = write_compressed("sqlite3-zstd-file", tmp_path)
+    source = compressed_bags["sqlite3-zstd-file"]
+    bag = copy_bags([source], tmp_path) / source.name
     storage = _storage(bag)
     with storage.open("wb") as out, zstandard.ZstdCompressor().stream_writer(out) as packed:
         for _ in range(64):

@@ -26,7 +26,6 @@ from tests.fixtures.compressed_bags import (
     CompressedKind,
     size_bytes,
     stored_compression,
-    write_compressed,
 )
 
 DROP = FilterSpec(exclude_topics=(sc.SCAN_TOPIC, sc.TF_TOPIC))
@@ -59,9 +58,8 @@ def _speeds(path: Path) -> list[float]:
 
 
 @pytest.fixture(scope="module")
-def compressed(tmp_path_factory: pytest.TempPathFactory) -> dict[CompressedKind, Path]:
-    directory = tmp_path_factory.mktemp("compressed-sources")
-    return {kind: write_compressed(kind, directory) for kind in COMPRESSED_KINDS}
+def compressed(compressed_bags: dict[CompressedKind, Path]) -> dict[CompressedKind, Path]:
+    return compressed_bags
 
 
 @dataclass(frozen=True)

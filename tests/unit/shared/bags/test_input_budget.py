@@ -19,13 +19,14 @@ from bagmcp_shared.bags import BagFormat, open_bag, open_stream
 from bagmcp_shared.bags.user_yaml import UserYamlError, load_user_yaml, refuse_aliases
 from bagmcp_shared.errors import UnsupportedFormatError
 from bagmcp_shared.settings import InputBudget
-from tests.fixtures.compressed_bags import write_compressed
+from tests.fixtures.compressed_bags import CompressedKind
 from tests.fixtures.hostile_inputs import (
     alias_bomb_lines,
     write_mcap_chunk_bomb,
     write_ros1_chunk_bomb,
     write_yaml_alias_bomb,
 )
+from tests.fixtures.inprocess import copy_bags
 from tests.fixtures.mcap_cuts import cut_copy
 
 EXPANDED = 4 << 20
@@ -124,10 +125,13 @@ def test_an_mcap_read_from_start_to_end_skips_attachments_instead_of_loading_the
     assert peak < 4 << 20, peak
 
 
-def test_a_message_compressed_per_message_past_the_budget_is_refused(tmp_path: Path, small_budget: None) -> None:
+def test_a_message_compressed_per_message_past_the_budget_is_refused(
+    tmp_path: Path, compressed_bags: dict[CompressedKind, Path], small_budget: None
+) -> None:
     """zstd allocates the size a frame declares before it decompresses; 4 MiB of zeros fit in a few hundred
     bytes."""
-    bag = write_compressed("sqlite3-zstd-message", tmp_path)
+    source = compressed_bags["sqlite3-zstd-message"]
+    bag = copy_bags([source], tmp_path) / source.name
     db3 = next(p for p in bag.iterdir() if p.suffix == ".db3")
     with sqlite3.connect(db3) as db:
         first = db.execute("SELECT id FROM messages ORDER BY timestamp LIMIT 1").fetchone()[0]
