@@ -1,6 +1,7 @@
-"""Team mode's background work: a Celery app on Redis whose workers take one service's queue, and the
-runner that sends tasks to it. The embedded thread runner and the task names stay in the library
-(``bagmcp_shared.tasks``); Celery lives only here, in the kit's runtime.
+"""Team mode's background work: a Celery app on Redis whose workers take one service's queue (the runner that
+sends tasks to it, ``sender.CeleryRunner``, makes its app from here on the first task sent). The embedded
+thread runner and the task names stay in the library (``bagmcp_shared.tasks``); Celery lives only here, in
+the kit's runtime.
 """
 
 from __future__ import annotations
@@ -8,17 +9,6 @@ from __future__ import annotations
 from celery import Celery
 
 from bagmcp_kit.runtime.heartbeat import VisibilityHeartbeat
-from bagmcp_shared.tasks import TaskRef
-
-
-class CeleryRunner:
-    """Team mode: the task goes to its service's queue, where that service's workers take it."""
-
-    def __init__(self, app: Celery) -> None:
-        self._app = app
-
-    def submit(self, task: TaskRef, argument: str) -> None:
-        self._app.send_task(task.name, args=[argument], queue=task.queue)
 
 
 def create_celery(redis_url: str, *, queue: str, visibility_timeout_s: int = 60) -> Celery:

@@ -13,7 +13,7 @@ import time
 from dataclasses import dataclass
 from pathlib import Path
 
-from bagmcp_kit.runtime.celery_app import CeleryRunner, create_celery
+from bagmcp_kit.runtime.sender import CeleryRunner
 from bagmcp_shared.access import (
     BagAccess,
     BagFiles,
@@ -152,13 +152,12 @@ def team_resources(settings: TeamSettings, *, queue: str) -> Resources:
     wait_for_redis(client)
     files = RangedBagFiles(store, settings.cache_dir, max_bytes=settings.cache_max_bytes, reads=settings.range_reads)
     catalog = RedisCatalog(client)
-    app = create_celery(settings.redis_url, queue=queue, visibility_timeout_s=settings.task_visibility_timeout_s)
     return Resources(
         catalog=catalog,
         files=files,
         indexes=files,
         job_store=RedisJobStore(client),
-        runner=CeleryRunner(app),
+        runner=CeleryRunner(settings.redis_url, queue=queue, visibility_timeout_s=settings.task_visibility_timeout_s),
         store=store,
         access=BagAccess(catalog, files, cache=ReaderCache(settings.open_bags)),
         scratch=scratch,

@@ -11,9 +11,10 @@ import numpy as np
 from pydantic import BaseModel, ConfigDict, Field
 
 from bagmcp_kit.arguments import BagRef, OptionalTopic, TimeArg
+from bagmcp_plotting import drawing
 from bagmcp_plotting.artifacts import Artifacts, artifact_id
 from bagmcp_plotting.data import PathSeries, read_path, read_paths
-from bagmcp_plotting.drawing import Line, render_histogram, render_overlay, render_scan, render_timeseries, render_xy
+from bagmcp_plotting.drawing import Line
 from bagmcp_plotting.positions import motion_start, positions
 from bagmcp_plotting.reports import Artifact, PlotReport, SeriesOut
 from bagmcp_shared.access import BagAccess, OpenBag
@@ -156,7 +157,7 @@ class Plotter:
                 series = read_paths(ob, params.paths, lo, hi, progress)
                 title = params.title or f"{', '.join(s.name for s in series)} ({_window_title(ob, lo, hi)})"
                 lines = [Line(s.name, s.unit, s.t_s(ob.start_ns), s.values) for s in series]
-                png = render_timeseries(lines, style=params.style, title=title)
+                png = drawing.render_timeseries(lines, style=params.style, title=title)
                 return self._store(key, png, _window_report(ob, lo, hi, title, [_series_out(s) for s in series]))
 
         return self._plot(TIMESERIES, params, [params.bag], make, key)
@@ -169,7 +170,7 @@ class Plotter:
                 trajectory = params.x is None
                 what = f"trajectory of {x.topic}" if trajectory else f"{y.name} against {x.name}"
                 title = f"{what} ({_window_title(ob, lo, hi)})"
-                png = render_xy(
+                png = drawing.render_xy(
                     x=x.values,
                     y=y.values,
                     t_s=x.t_s(ob.start_ns),
@@ -214,7 +215,7 @@ class Plotter:
                 when = ob.instant(raw.log_time_ns)
                 title = f"{topic} at {when.offset_s:.2f} s ({ob.name})"
                 shown = np.where(valid, ranges, np.nan)
-                png = render_scan(
+                png = drawing.render_scan(
                     angles_rad=angles, ranges_m=shown, title=title, range_max_m=high, within_m=params.within_m
                 )
                 closest = float(ranges[valid].min()) if valid.any() else None
@@ -245,7 +246,7 @@ class Plotter:
                 lo, hi = ob.window(params.start, params.end)
                 series = read_path(ob, params.path, lo, hi, progress)
                 title = f"{series.name} ({_window_title(ob, lo, hi)})"
-                png = render_histogram(
+                png = drawing.render_histogram(
                     series.values, bins=params.bins, label=series.name, unit=series.unit, title=title
                 )
                 return self._store(key, png, _window_report(ob, lo, hi, title, [_series_out(series)]))
@@ -274,7 +275,7 @@ class Plotter:
             since = "first motion" if params.align == "motion" else "bag start"
             first, last = min(float(line.x.min()) for line in lines), max(float(line.x.max()) for line in lines)
             title = f"{params.path}: {', '.join(names)} ({first:.1f} to {last:.1f} s from each {since})"
-            png = render_overlay(lines, title=title, y_label=label, x_label=f"time from {since} [s]")
+            png = drawing.render_overlay(lines, title=title, y_label=label, x_label=f"time from {since} [s]")
             report = PlotReport(
                 bags=names,
                 title=title,

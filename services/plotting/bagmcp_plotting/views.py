@@ -8,8 +8,8 @@ import numpy as np
 
 from bagmcp_kit.web.view_data import View, numbers, scan_entry
 from bagmcp_plotting.data import PathSeries, read_path, read_paths
+from bagmcp_plotting.drawing.bins import freedman_diaconis_bins
 from bagmcp_plotting.drawing.decimate import extreme_indices, minmax_decimate
-from bagmcp_plotting.drawing.histogram import freedman_diaconis_bins
 from bagmcp_plotting.plots import CompareParams, HistogramParams, Plotter, ScanPlotParams, TimeseriesParams, XYParams
 from bagmcp_plotting.positions import motion_start
 from bagmcp_shared.access import BagAccess, OpenBag

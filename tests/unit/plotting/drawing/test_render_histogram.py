@@ -5,8 +5,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from bagmcp_plotting.drawing.bins import freedman_diaconis_bins
 from bagmcp_plotting.drawing.canvas import PALETTE
-from bagmcp_plotting.drawing.histogram import freedman_diaconis_bins, histogram_legend, render_histogram
+from bagmcp_plotting.drawing.histogram import histogram_legend, render_histogram
 from tests.fixtures.png_checks import MAX_PNG_BYTES, colour_mask, decode_png, distinct_colours
 
 
