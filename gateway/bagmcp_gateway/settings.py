@@ -14,7 +14,7 @@ from bagmcp_gateway.access.tokens.models import token_hash
 from bagmcp_gateway.access.tokens.verifier import JwtSettings
 from bagmcp_gateway.access.upload_limits import DEFAULT_IDLE_S, DEFAULT_PER_TOKEN, UploadLimits
 from bagmcp_gateway.mcp_front.wire_answers import DEFAULT_MAX_CHARS
-from bagmcp_gateway.upstreams.upstream import GatewayConfigError, Upstream
+from bagmcp_gateway.upstreams.upstream import DEFAULT_UPSTREAM_TIMEOUT_S, GatewayConfigError, Upstream
 from bagmcp_shared.settings import Env, HttpSettings
 
 DEFAULT_PORT = 8080
@@ -28,10 +28,13 @@ def rate_limit_from_env(env: Env, *, default_per_s: float) -> Limit | None:
     return Limit(rate, env.integer("BAGMCP_RATE_BURST", DEFAULT_BURST)) if rate > 0 else None
 
 
-def parse_upstreams(text: str, *, service_token: str | None) -> list[Upstream]:
+def parse_upstreams(
+    text: str, *, service_token: str | None, connect_timeout_s: float = DEFAULT_UPSTREAM_TIMEOUT_S
+) -> list[Upstream]:
     """``name=url[@prefix][#timeout_s]`` items separated by commas: ``@prefix`` prefixes that upstream's tool
     names, ``#timeout_s`` bounds its calls. Our services get the service token; ``!name=url`` marks a
-    third-party server, which never does."""
+    third-party server, which never does. ``connect_timeout_s`` bounds connecting to each and listing its tools
+    (``BAGMCP_UPSTREAM_TIMEOUT_S``): past it the upstream counts as down."""
     upstreams = []
     for item in (i.strip() for i in text.split(",") if i.strip()):
         foreign = item.startswith("!")
@@ -51,6 +54,7 @@ def parse_upstreams(text: str, *, service_token: str | None) -> list[Upstream]:
                 service_token=None if foreign else service_token,
                 prefix=prefix or None,
                 call_timeout_s=call_timeout_s,
+                timeout_s=connect_timeout_s,
             )
         )
     names = [u.name for u in upstreams]
@@ -137,7 +141,11 @@ class GatewaySettings:
                 "set BAGMCP_TOKENS, BAGMCP_REDIS_URL (tokens made with `bagmcp token`) or BAGMCP_JWT_*"
             )
         http = HttpSettings.from_env(env, port=DEFAULT_PORT, extra_hosts=("gateway:*",))
-        upstreams = parse_upstreams(env.need("BAGMCP_UPSTREAMS"), service_token=service)
+        upstreams = parse_upstreams(
+            env.need("BAGMCP_UPSTREAMS"),
+            service_token=service,
+            connect_timeout_s=env.number("BAGMCP_UPSTREAM_TIMEOUT_S", DEFAULT_UPSTREAM_TIMEOUT_S),
+        )
         return cls(
             upstreams=upstreams,
             token_hashes=hashes,

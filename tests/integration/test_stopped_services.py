@@ -104,7 +104,9 @@ async def test_a_call_in_flight_when_its_service_stops_ends_promptly_naming_it(
         if how == "frozen":
             os.kill(bag_store.pid, signal.SIGCONT)
     assert "bag-store service" in text
-    assert took < 25, f"the call took {took:.0f} s: {text}"
+    # 2 s before the stop, then at most a poll (1 s) and the fault stack's listing timeout (3 s) with 4 s to spare
+    # on a loaded machine (12-13 s with the 10 s default)
+    assert took < 10, f"the call took {took:.0f} s: {text}"
 
 
 async def test_a_call_right_after_its_service_came_back_runs(waiting_stack: FaultStack) -> None:

@@ -17,6 +17,10 @@ from bagmcp_shared.errors import BagmcpError
 
 _UPSTREAM_NAME = re.compile(r"^[a-z][a-z0-9-]*$")
 UI_SCHEME = "ui://"
+# How long the gateway waits to connect to an upstream and list its tools before it counts as down
+# (BAGMCP_UPSTREAM_TIMEOUT_S): a frozen service, one that keeps its connections open but never answers, leaves
+# tools/list after this plus at most a poll.
+DEFAULT_UPSTREAM_TIMEOUT_S = 10.0
 
 
 class GatewayConfigError(BagmcpError):
@@ -36,7 +40,7 @@ class Upstream:
     server: MCPServer | None = None
     service_token: str | None = None
     prefix: str | None = None
-    timeout_s: float = 10.0
+    timeout_s: float = DEFAULT_UPSTREAM_TIMEOUT_S
     call_timeout_s: float = 600.0
 
     def __post_init__(self) -> None:
