@@ -104,15 +104,20 @@ class BlockCache:
 
         Waits for block ``first``'s lock (another process may be fetching it; the caller then checks
         the disk again); later blocks join the run only while their locks are free and they are missing,
-        so runs of two processes never overlap."""
+        so runs of two processes never overlap. A block whose lock stripe the run holds already joins too:
+        the lock is the run's own (an flock taken again through another open file would refuse it, which
+        split one chunk's read in two requests in about a third of 16-block runs with 256 stripes)."""
         with ExitStack() as stack:
-            stack.enter_context(self._stripe(obj, first, wait=True))
+            held = {_stripe_of(obj, first)}
+            stack.enter_context(self._locked(_stripe_of(obj, first), wait=True))
             end = first
             for index in range(first + 1, last + 1):
-                try:
-                    stack.enter_context(self._stripe(obj, index, wait=False))
-                except BlockingIOError:
-                    break
+                if (stripe := _stripe_of(obj, index)) not in held:
+                    try:
+                        stack.enter_context(self._locked(stripe, wait=False))
+                    except BlockingIOError:
+                        break
+                    held.add(stripe)
                 if self.path(obj, index).exists():  # checked under its lock: a finished fetch is seen
                     break
                 end = index
@@ -142,8 +147,7 @@ class BlockCache:
         return sum(size for _, size, _ in self._scan())
 
     @contextmanager
-    def _stripe(self, obj: str, index: int, *, wait: bool) -> Iterator[None]:
-        stripe = zlib.crc32(f"{obj}/{index}".encode()) % STRIPES
+    def _locked(self, stripe: int, *, wait: bool) -> Iterator[None]:
         with (self._locks / str(stripe)).open("a") as handle:
             fcntl.flock(handle, fcntl.LOCK_EX if wait else fcntl.LOCK_EX | fcntl.LOCK_NB)
             try:
@@ -204,3 +208,8 @@ class BlockCache:
         with os.fdopen(fd, "w") as out:
             out.write(str(max(total, 0)))
         Path(temp).replace(self._usage)
+
+
+def _stripe_of(obj: str, index: int) -> int:
+    """The fetch lock a block shares with others: one lock file per stripe, not per block."""
+    return zlib.crc32(f"{obj}/{index}".encode()) % STRIPES
