@@ -50,12 +50,11 @@ lint: install
 typecheck: install
 	$(VENV)/bin/mypy
 
-# Files go to the two processes in collection order, integration (tests/integration) before unit
-# (--no-loadscope-reorder): pytest-xdist's own order, files with the most tests first, started single long
-# integration files last (one of 30 s began as the other process ran out of work: the run ended 30 s after it went
-# idle); the unit files, 1,236 tests of well under a second each, now fill both processes to the end.
+# pytest-xdist's own file order (files with the most tests first) is kept: collection order, integration first,
+# was tried on 2026-11-28 and ran the corpus uploads (test_fleet_on_recorded_corpus) before the session-stack
+# files that name their uploads (test_stack_range_reads), which then found the corpus's twins under those names.
 pytest: install browser  ## every test on two processes, a file per process at a time (its servers start once)
-	$(PY) -m pytest -n 2 --dist loadfile --no-loadscope-reorder $(PYTEST_ARGS)
+	$(PY) -m pytest -n 2 --dist loadfile $(PYTEST_ARGS)
 
 unit: install  ## the tests that start no server, on two processes (pytest-xdist): 90-100 s of CPU, 50-58 s here when idle
 	$(PY) -m pytest -m 'not integration' -n 2 $(PYTEST_ARGS)
