@@ -123,24 +123,23 @@ class BlockCache:
                 end = index
             yield end
 
-    def store(self, obj: str, index: int, data: bytes) -> None:
-        """Write a fetched block (temp file, then rename), first making room for it."""
-        self.counters.add(misses=1, fetched_bytes=len(data))
-        count_fetched(len(data))
-        if len(data) > self.max_bytes:
+    def store(self, obj: str, first: int, parts: list[bytes]) -> None:
+        """Write fetched blocks ``first`` .. (temp file, then rename each), first making room for all of them.
+
+        One reservation per run, not per block: each took the host-wide lock and rewrote the usage file (temp
+        file and rename), more than half of a block's cost (16 blocks of 1 MiB: 25 ms one by one on a 2 GHz
+        EPYC, 11 of them in the reservations)."""
+        fetched = sum(len(data) for data in parts)
+        self.counters.add(misses=len(parts), fetched_bytes=fetched)
+        count_fetched(fetched)
+        kept = [(self.path(obj, first + n), data) for n, data in enumerate(parts) if len(data) <= self.max_bytes]
+        if not kept:
             return  # a cache smaller than a block keeps nothing; the caller has the bytes
-        target = self.path(obj, index)
-        target.parent.mkdir(exist_ok=True)
-        self._reserve(len(data), replacing=target)
-        fd, temp = tempfile.mkstemp(dir=self._temp)
-        try:
-            with os.fdopen(fd, "wb") as out:
-                out.write(data)
-            Path(temp).replace(target)
-        except BaseException:
-            with suppress(OSError):
-                Path(temp).unlink()
-            raise
+        kept[0][0].parent.mkdir(exist_ok=True)
+        for batch in _batches(kept, self.max_bytes // 4):  # a run larger than the cache still keeps within it
+            self._reserve(sum(len(data) for _, data in batch), replacing=[target for target, _ in batch])
+            for target, data in batch:
+                _write_whole(target, data, temp_dir=self._temp)
 
     def used_bytes(self) -> int:
         """Bytes of blocks on disk now (a directory scan)."""
@@ -155,22 +154,23 @@ class BlockCache:
             finally:
                 fcntl.flock(handle, fcntl.LOCK_UN)
 
-    def _reserve(self, size: int, *, replacing: Path) -> None:
+    def _reserve(self, size: int, *, replacing: list[Path]) -> None:
         """Count ``size`` more bytes in the shared usage, evicting least recently used blocks first when
         the total would pass the bound (the count is recomputed from disk then, so drift heals)."""
         with self._evict_lock.open("a") as lock:
             fcntl.flock(lock, fcntl.LOCK_EX)
             try:
                 total = self._read_usage()
-                with suppress(FileNotFoundError):
-                    total -= replacing.stat().st_size  # the same block fetched again replaces itself
+                for target in replacing:
+                    with suppress(FileNotFoundError):
+                        total -= target.stat().st_size  # the same block fetched again replaces itself
                 if total + size > self.max_bytes:
-                    total = self._evict(int(self.max_bytes * LOW_WATER) - size, keep=replacing)
+                    total = self._evict(int(self.max_bytes * LOW_WATER) - size, keep=set(replacing))
                 self._write_usage(total + size)
             finally:
                 fcntl.flock(lock, fcntl.LOCK_UN)
 
-    def _evict(self, target: int, *, keep: Path) -> int:
+    def _evict(self, target: int, *, keep: set[Path]) -> int:
         """Remove the oldest blocks until at most ``target`` bytes remain; returns the bytes left."""
         blocks = sorted(self._scan())
         total = sum(size for _, size, _ in blocks)
@@ -178,7 +178,7 @@ class BlockCache:
         for _, size, path in blocks:
             if total <= target:
                 break
-            if path == keep:
+            if path in keep:
                 continue
             with suppress(FileNotFoundError):
                 path.unlink()
@@ -204,10 +204,34 @@ class BlockCache:
             return self.used_bytes()
 
     def _write_usage(self, total: int) -> None:
-        fd, temp = tempfile.mkstemp(dir=self._temp)
-        with os.fdopen(fd, "w") as out:
-            out.write(str(max(total, 0)))
-        Path(temp).replace(self._usage)
+        _write_whole(self._usage, str(max(total, 0)).encode(), temp_dir=self._temp)
+
+
+def _batches(blocks: list[tuple[Path, bytes]], limit: int) -> Iterator[list[tuple[Path, bytes]]]:
+    """``blocks`` in order, in batches of at most ``limit`` bytes (a larger block alone)."""
+    batch: list[tuple[Path, bytes]] = []
+    size = 0
+    for block in blocks:
+        if batch and size + len(block[1]) > limit:
+            yield batch
+            batch, size = [], 0
+        batch.append(block)
+        size += len(block[1])
+    if batch:
+        yield batch
+
+
+def _write_whole(target: Path, data: bytes, *, temp_dir: Path) -> None:
+    """Write ``data`` to ``target`` through a temp file renamed into place: a reader sees all of it or none."""
+    fd, temp = tempfile.mkstemp(dir=temp_dir)
+    try:
+        with os.fdopen(fd, "wb") as out:
+            out.write(data)
+        Path(temp).replace(target)
+    except BaseException:
+        with suppress(OSError):
+            Path(temp).unlink()
+        raise
 
 
 def _stripe_of(obj: str, index: int) -> int:

@@ -229,8 +229,7 @@ class RangedFile(io.BufferedIOBase):
             offset = first * self._block
             data = self._get(offset, min((end + 1) * self._block, self.size) - offset)
             parts = [data[at : at + self._block] for at in range(0, len(data), self._block)]
-            for number, part in enumerate(parts):
-                self._blocks.store(self._obj, first + number, part)
+            self._blocks.store(self._obj, first, parts)
             return parts
 
     def _learn_size(self) -> None:
@@ -243,7 +242,7 @@ class RangedFile(io.BufferedIOBase):
         self._stored = StoredFile(self._stored.bag, self._stored.key, answer.total, self._etag)
         self._checked(answer, 0, min(self._block, answer.total))
         if answer.data:
-            self._blocks.store(self._obj, 0, answer.data)
+            self._blocks.store(self._obj, 0, [answer.data])
             self._remember(0, answer.data)
 
     def _get(self, offset: int, length: int) -> bytes:

@@ -25,7 +25,7 @@ def test_a_run_whose_blocks_share_a_lock_stripe_is_claimed_whole(tmp_path: Path)
 
 def test_a_run_stops_before_a_block_that_is_on_disk_or_locked_by_another_run(tmp_path: Path) -> None:
     cache = BlockCache(tmp_path, block_bytes=16, max_bytes=1 << 20)
-    cache.store(OBJ, 5, b"x" * 16)
+    cache.store(OBJ, 5, [b"x" * 16])
     with cache.claim(OBJ, 0, 9) as end:
         assert end == 4
     other = BlockCache(tmp_path, block_bytes=16, max_bytes=1 << 20)  # another process's view of the same cache
