@@ -6,9 +6,10 @@ costs its 20 ms, since they are made one after the other (issue 21: 19 to 26 req
 
 from __future__ import annotations
 
+import threading
 from collections.abc import Callable, Iterator
 from pathlib import Path
-from typing import BinaryIO, cast
+from typing import Any, BinaryIO, cast
 
 import pytest
 
@@ -19,11 +20,13 @@ from bagmcp_bag_store.queries.messages import MessageAtTimeParams, get_message_a
 from bagmcp_bag_store.reports import MessageAtTime
 from bagmcp_shared.access import BagAccess, RangedBagFiles
 from bagmcp_shared.access.ranged import StoredFile
+from bagmcp_shared.access.remote import RemoteStore
 from bagmcp_shared.bags.mcap_source import McapSource
 from bagmcp_shared.bags.sqlite3_source import forget_topic_stats
 from bagmcp_shared.catalog import BagRecord, MemoryCatalog
 from bagmcp_shared.settings import RangeReads
 from bagmcp_shared.storage import S3Store
+from bagmcp_shared.storage.base import RangeAnswer
 from bench.delay_proxy import DelayProxy, delay_proxy
 from tests.fixtures.bagfactory import BAG_KINDS, BagKind
 from tests.fixtures.mcap_cuts import data_section, write_mcap
@@ -36,7 +39,7 @@ pytestmark = pytest.mark.integration
 # pages, then the chunk asked for, each its own range.
 READS = RangeReads(block_bytes=16 << 10, cache_bytes=4 << 20, read_ahead_bytes=64 << 10)
 # ROS 1: header, index, chunk; sqlite3: metadata.yaml and the .db3's first block at once, then three pages;
-# MCAP: metadata.yaml and the .mcap's first block at once, summary, chunk.
+# MCAP: metadata.yaml, the .mcap's first block and its summary at once (the catalog records its size), chunk.
 MOST_REQUESTS: dict[BagKind, int] = {"ros1": 3, "ros2-sqlite3": 5, "ros2-mcap": 4}
 
 
@@ -123,3 +126,62 @@ def test_an_mcap_summary_of_many_blocks_is_fetched_in_one_request(
     assert [(c.topic, c.count) for c in opened[0].connections] == [("/left", 1500), ("/right", 1500)]
     opened[0].close()
     assert len(opening) == 1, opening
+
+
+class Rendezvous:
+    """An object store (``store``) whose ranged reads wait, up to ``wait_s``, until ``together`` of them have
+    arrived, and record which arrived together: reads made at once form one group, a read that waited for
+    another's answer starts a group of its own. Which reads share a round trip, without timing anything."""
+
+    def __init__(self, store: S3Store, *, together: int, wait_s: float = 1.0) -> None:
+        self._store = store
+        self._together = together
+        self._wait_s = wait_s
+        self._turn = threading.Condition()
+        self._open: list[str] | None = None
+        self.groups: list[list[str]] = []
+
+    def __getattr__(self, name: str) -> Any:
+        return getattr(self._store, name)
+
+    def read_range_tagged(self, key: str, *, offset: int, length: int) -> RangeAnswer:
+        with self._turn:
+            if self._open is None:
+                self._open = []
+                self.groups.append(self._open)
+            group = self._open
+            group.append(f"{key.rsplit('/', 1)[-1]}@{offset}")
+            if len(group) < self._together:
+                self._turn.wait_for(lambda: self._open is not group, timeout=self._wait_s)
+            if self._open is group:
+                self._open = None
+                self._turn.notify_all()
+        return self._store.read_range_tagged(key, offset=offset, length=length)
+
+
+def test_a_cold_read_of_a_ros2_mcap_directory_fetches_its_summary_with_its_first_block(
+    proxied: tuple[S3Store, S3Store, DelayProxy], scenario_bags: dict[BagKind, Path], tmp_path: Path
+) -> None:
+    """The catalog records each file's size, so a directory's .mcap summary (at the file's end) is fetched at
+    once with its first block and metadata.yaml: two round trips for a point read, not three (the summary
+    waited for the first block's answer, which told the file's size). A bag recorded before sizes per file
+    still answers, in three."""
+    direct, _, _ = proxied
+    catalog = MemoryCatalog()
+    record = stored(direct, catalog, scenario_bags["ros2-mcap"], tmp_path)
+    mcap = next(name for name in record.files if name.endswith(".mcap"))
+    assert record.file_sizes == {name: (scenario_bags["ros2-mcap"] / name).stat().st_size for name in record.files}
+    params = MessageAtTimeParams(bag=record.name, topic="/odom", time=4.2)
+    rounds = []
+    for label, kept in (("sizes", record), ("older", record.model_copy(update={"file_sizes": {}}))):
+        catalog.replace(kept)
+        gate = Rendezvous(direct, together=3)
+        files = RangedBagFiles(cast(RemoteStore, gate), tmp_path / label, max_bytes=1 << 30, reads=READS)
+        answer = get_message_at_time(BagAccess(catalog, files), params, budget_bytes=1 << 20)
+        assert answer.message.time.offset_s == pytest.approx(4.2, abs=0.05)
+        rounds.append(gate.groups)
+    with_sizes, older = rounds
+    assert len(with_sizes) == 2, with_sizes
+    assert {f"{mcap}@0", "metadata.yaml@0"} < set(with_sizes[0])  # and the summary at the end of the .mcap
+    assert len(with_sizes[0]) == 3
+    assert len(older) == 3, older

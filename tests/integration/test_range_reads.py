@@ -327,6 +327,24 @@ def test_a_bag_whose_ingest_failed_leaves_no_whole_copy(store: S3Store, local_mc
     assert not (tmp_path / "ingest-cache" / record.id).exists()
 
 
+def check_a_shorter_file_is_refused(
+    store: S3Store, catalog: MemoryCatalog, record: BagRecord, tmp_path: Path, *, size: int, cut: int
+) -> None:
+    """A file of the ROS 2 directory ``record`` stored ``cut`` bytes shorter (of ``size``) is refused, naming the
+    bag, with no ETag to compare: by the file's recorded size, or, for a bag stored before sizes and ETags were
+    recorded, by the directory's sum."""
+    catalog.replace(record.model_copy(update={"etags": {}}))
+    sized = BagAccess(catalog, RangedBagFiles(store, tmp_path / "sized", max_bytes=1 << 30, reads=ROOMY))
+    shorter = rf"bag {record.name} changed .*\({size - cut} bytes, the catalog recorded {size}\)"
+    with pytest.raises(DamagedBagError, match=shorter), sized.open(record.name):
+        pass
+    catalog.replace(record.model_copy(update={"etags": {}, "file_sizes": {}}))
+    older = BagAccess(catalog, RangedBagFiles(store, tmp_path / "older", max_bytes=1 << 30, reads=ROOMY))
+    in_all = rf"bag {record.name} changed .*bytes in all, the catalog"
+    with pytest.raises(DamagedBagError, match=in_all), older.open(record.name):
+        pass
+
+
 def test_a_changed_file_of_a_ros2_directory_is_an_error_naming_the_bag(
     store: S3Store, corpus: Path, tmp_path: Path
 ) -> None:
@@ -340,10 +358,7 @@ def test_a_changed_file_of_a_ros2_directory_is_an_error_naming_the_bag(
     with pytest.raises(DamagedBagError, match=r"bag split changed in the object store .*ETag"), fresh.open("split"):
         pass
     store.put_bytes(keys.bag_file(record.id, "wbag_1.mcap"), bytes(altered[:-100]))
-    catalog.replace(record.model_copy(update={"etags": {}}))  # a bag stored before ETags were recorded
-    other = BagAccess(catalog, RangedBagFiles(store, tmp_path / "b", max_bytes=1 << 30, reads=ROOMY))
-    with pytest.raises(DamagedBagError, match=r"bag split changed .*bytes in all, the catalog"), other.open("split"):
-        pass
+    check_a_shorter_file_is_refused(store, catalog, record, tmp_path, size=len(altered), cut=100)
 
 
 @pytest.mark.parametrize("kind", ["mcap-zstd-file", "sqlite3-zstd-file"])
@@ -532,10 +547,7 @@ def test_a_changed_sqlite3_file_is_an_error_naming_the_bag_while_open_and_on_ope
     ):
         list(bag.reader.messages(["/pose"]))  # pages not read before come back with another ETag
     store.put_bytes(keys.bag_file(record.id, name), bytes(altered[:-4096]))  # a page shorter
-    catalog.replace(record.model_copy(update={"etags": {}}))  # a bag stored before ETags were recorded
-    other = BagAccess(catalog, RangedBagFiles(store, tmp_path / "c", max_bytes=1 << 30, reads=ROOMY))
-    with pytest.raises(DamagedBagError, match=r"bag pages changed .*bytes in all, the catalog"), other.open("pages"):
-        pass
+    check_a_shorter_file_is_refused(store, catalog, record, tmp_path, size=len(altered), cut=4096)
 
 
 def read_in_child(endpoint: S3Endpoint, bucket: str, record_json: str, cache: str) -> tuple[str, int, int]:

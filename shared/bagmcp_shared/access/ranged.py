@@ -9,9 +9,10 @@ for; anything else is an error naming the bag.
 
 Opening costs no request when the catalog records the file's ETag and size (a single-file bag): the
 first range read checks them. Each request is a round trip in sequence with the reader's next one (20 ms
-on a network object store), so a HEAD before it would add a round trip to every cold read. A ROS 2
-directory's files have no size of their own in the catalog: the first read of block 0 (which their
-readers read first anyway) brings it. Only a bag stored before ETags were recorded is opened with a HEAD.
+on a network object store), so a HEAD before it would add a round trip to every cold read. The catalog
+records the size of each file, a ROS 2 directory's too; for a directory stored before it did, the first read
+of each file's block 0 (which its readers read first anyway) brings it. Only a bag stored before ETags were
+recorded is opened with a HEAD.
 """
 
 from __future__ import annotations
@@ -120,6 +121,11 @@ class RangedFile(io.BufferedIOBase):
         return self._stored.size
 
     @property
+    def size_known(self) -> bool:
+        """Whether the size is known without a read (the catalog's, or a HEAD's at opening)."""
+        return self._stored.size != UNKNOWN_SIZE
+
+    @property
     def identity(self) -> str:
         """What the stored content is: a hash of its bucket, key and ETag (its blocks' directory name)."""
         return self._obj
@@ -138,6 +144,13 @@ class RangedFile(io.BufferedIOBase):
         tail = max((self.size - self._block) // self._block, 0)
         runs = [(0, count - 1)] if tail <= 1 else [(0, 0), (tail, count - 1)]
         at_once([partial(self._fetch_missing, first, last) for first, last in runs])
+
+    def prefetch_head(self) -> None:
+        """Fetch the first block (with it the object's size, when the catalog recorded none)."""
+        if self._stored.size == UNKNOWN_SIZE:
+            self._learn_size()
+        else:
+            self._fetch_missing(0, 0)
 
     def _fetch_missing(self, first: int, last: int) -> None:
         if not self._blocks.path(self._obj, first).exists():

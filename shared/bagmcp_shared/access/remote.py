@@ -93,18 +93,16 @@ class RangedBagFiles(CachedBagFiles):
     def _open_directory(self, record: BagRecord, label: Path) -> BagReader:
         """A ROS 2 directory of MCAP or sqlite3 storage files: metadata.yaml read whole (a few KB, through the
         block cache like the rest), each storage file opened by range; the catalog's per-topic totals stand
-        in for sqlite3 files' scans of every row. The catalog records no size per file, so each file's first
-        block is read at once with the others (its answer gives the size; its readers read it first anyway):
-        one round trip for the directory, not one per file."""
+        in for sqlite3 files' scans of every row. What each file's reader reads first is fetched at once with
+        the others' (``_first_reads``): one round trip for the directory, not one per file."""
         files: dict[str, RangedFile] = {}
         try:
             for name in record.files:
-                stored = StoredFile(
-                    record.name, keys.bag_file(record.id, name), UNKNOWN_SIZE, record.etags.get(name, "")
-                )
+                size = record.file_sizes.get(name, UNKNOWN_SIZE)
+                stored = StoredFile(record.name, keys.bag_file(record.id, name), size, record.etags.get(name, ""))
                 files[Path(name).name] = self.open_file(stored)
-            sizes = at_once([partial(_size, file) for file in files.values()])
-            if (found := sum(sizes)) != record.size_bytes:
+            at_once([partial(_first_reads, name, file) for name, file in files.items()])
+            if (found := sum(file.size for file in files.values())) != record.size_bytes:
                 raise changed(record.name, f"{found} bytes in all, the catalog recorded {record.size_bytes}")
             metadata = None
             if (listed := files.pop(METADATA, None)) is not None:
@@ -122,8 +120,15 @@ class RangedBagFiles(CachedBagFiles):
         return RangedFile(self._ranges, stored, self.blocks, read_ahead_bytes=self._read_ahead)
 
 
-def _size(file: RangedFile) -> int:
-    return file.size
+def _first_reads(name: str, file: RangedFile) -> None:
+    """Fetch what a reader of a directory's file reads first, at once with the other files': an MCAP file's
+    header and summary at its end when the catalog recorded its size, else its first block (which brings the
+    size when the catalog has none). With sizes recorded a cold MCAP point read makes two round trips, not
+    three (the summary waited for the first block's answer to learn where the file ends)."""
+    if name.endswith(".mcap") and file.size_known:
+        file.prefetch_ends()
+    else:
+        file.prefetch_head()
 
 
 RANGED = frozenset({BagFormat.MCAP, BagFormat.ROS1})

@@ -76,6 +76,8 @@ class BagRecord(BaseModel):
     else a path relative to the folder an embedded server serves (read-only). ``etags`` are the
     object store's ETags of the files as stored (none in embedded mode or for bags stored before they
     were recorded): a range read of an object whose ETag differs is refused, never answered.
+    ``file_sizes`` are each stored file's bytes (a directory's too, so a reader knows where each file ends
+    before its first read; none for bags stored before they were recorded).
     """
 
     id: str
@@ -95,3 +97,4 @@ class BagRecord(BaseModel):
     summary: CatalogSummary | None = None
     index_files: list[str] = Field(default_factory=list)
     etags: dict[str, str] = Field(default_factory=dict)
+    file_sizes: dict[str, int] = Field(default_factory=dict)

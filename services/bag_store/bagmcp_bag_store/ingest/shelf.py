@@ -30,10 +30,12 @@ class Shelf:
             return existing, False
         self._catalog.claim_name(name, bag_id)
         try:
-            etags = {}
+            etags: dict[str, str] = {}
+            sizes: dict[str, int] = {}
             for file in files:
-                stored = self._store.put_file(keys.bag_file(bag_id, file), root if root.is_file() else root / file)
-                etags[file] = stored.etag
+                path = root if root.is_file() else root / file
+                etags[file] = self._store.put_file(keys.bag_file(bag_id, file), path).etag
+                sizes[file] = path.stat().st_size
             record = BagRecord(
                 id=bag_id,
                 name=name,
@@ -42,10 +44,11 @@ class Shelf:
                 source=keys.bag_prefix(bag_id),
                 in_store=True,
                 sha256=sha,
-                size_bytes=sum((root if root.is_file() else root / f).stat().st_size for f in files),
+                size_bytes=sum(sizes.values()),
                 created_at=time.time(),
                 tags=tags,
                 etags={file: etag for file, etag in etags.items() if etag},
+                file_sizes=sizes,
             )
             if not self._catalog.add(record):  # the same content was registered concurrently
                 self._catalog.release_name(name, bag_id)
