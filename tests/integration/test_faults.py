@@ -44,6 +44,9 @@ HEAVY_MESSAGES = 150_000  # about 8 s of ingest on a loaded 2-core machine
 # (300,000 took 12.3 s alone and 40 s beside the rest of the suite, when the timeout was 3 s)
 LONG_MESSAGES = 200_000
 SETTLE_S = 60  # the bound every test states: the bag is ready or failed with a reason within this
+# ... except the long ingest, long on purpose: sized to outlast two visibility timeouts on a fast machine, it took
+# over 60 s on a 2 GHz first-generation Zen beside the rest of the suite (2026-11-28)
+LONG_SETTLE_S = 240
 
 
 @pytest.fixture(scope="module")
@@ -101,7 +104,7 @@ def test_a_live_worker_keeps_a_long_ingest_to_itself(faults: FaultStack, tmp_pat
     since = _offsets(workers)
     try:
         _upload(faults, write_odometry_bag(tmp_path, count=LONG_MESSAGES, name="odom_long"))
-        assert settle(faults, timeout_s=SETTLE_S).bags["odom_long"] == ("ready", None)
+        assert settle(faults, timeout_s=LONG_SETTLE_S).bags["odom_long"] == ("ready", None)
     finally:
         other.stop()
         faults.workers.remove(other)
