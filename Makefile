@@ -56,7 +56,7 @@ typecheck: install
 pytest: install browser  ## every test on two processes, a file per process at a time (its servers start once)
 	$(PY) -m pytest -n 2 --dist loadfile $(PYTEST_ARGS)
 
-unit: install  ## the tests that start no server, on two processes (pytest-xdist): 90-100 s of CPU, 50-58 s here when idle
+unit: install  ## the tests that start no server, on two processes (pytest-xdist): 50-58 s on a recent 2-core EPYC, 1 min 46 s on a 2 GHz first-generation one (README: Development)
 	$(PY) -m pytest -m 'not integration' -n 2 $(PYTEST_ARGS)
 
 test: lint typecheck browser pytest  ## everything CI checks (the browser tests included)

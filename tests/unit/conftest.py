@@ -49,9 +49,7 @@ def served_small(tmp_path_factory: pytest.TempPathFactory) -> Iterator[InProcess
 def compressed_bags(tmp_path_factory: pytest.TempPathFactory) -> dict[CompressedKind, Path]:
     """The scenario bag in every compression of tests/fixtures/compressed_bags.py, written once per run (0.5 s of
     CPU; four test files wrote them, some per test). Read-only: a test that damages one damages a copy."""
-    paths = written_once(
-        tmp_path_factory, "compressed-bags", lambda d: {k: write_compressed(k, d) for k in COMPRESSED_KINDS}
-    )
+    paths = written_once(tmp_path_factory, "compressed-bags", _write_compressed_bags)
     return {kind: paths[kind] for kind in COMPRESSED_KINDS}
 
 

@@ -146,11 +146,12 @@ class RangedFile(io.BufferedIOBase):
         at_once([partial(self._fetch_missing, first, last) for first, last in runs])
 
     def prefetch_head(self) -> None:
-        """Fetch the first block (with it the object's size, when the catalog recorded none)."""
+        """Fetch the first block (with it the object's size, when the catalog recorded none) and keep it in memory,
+        as the reader reads it next."""
         if self._stored.size == UNKNOWN_SIZE:
             self._learn_size()
-        else:
-            self._fetch_missing(0, 0)
+        elif 0 not in self._mem:
+            self._remember(0, self._blocks_of(0, 0, 0)[0])
 
     def _fetch_missing(self, first: int, last: int) -> None:
         if not self._blocks.path(self._obj, first).exists():

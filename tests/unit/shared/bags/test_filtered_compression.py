@@ -57,11 +57,6 @@ def _speeds(path: Path) -> list[float]:
         return [bag.decode(raw).linear.x for raw in bag.messages([sc.CMD_TOPIC])]  # type: ignore[attr-defined]
 
 
-@pytest.fixture(scope="module")
-def compressed(compressed_bags: dict[CompressedKind, Path]) -> dict[CompressedKind, Path]:
-    return compressed_bags
-
-
 @dataclass(frozen=True)
 class Copies:
     kind: CompressedKind
@@ -72,20 +67,22 @@ class Copies:
 
 @pytest.fixture(scope="module", params=COMPRESSED_KINDS)
 def copies(
-    request: pytest.FixtureRequest, compressed: dict[CompressedKind, Path], tmp_path_factory: pytest.TempPathFactory
+    request: pytest.FixtureRequest,
+    compressed_bags: dict[CompressedKind, Path],
+    tmp_path_factory: pytest.TempPathFactory,
 ) -> Copies:
     """Two filtered copies (same request, separate directories) of one compressed source."""
     kind: CompressedKind = request.param
-    first = _filter(compressed[kind], tmp_path_factory.mktemp(f"{kind}-a"))
-    second = _filter(compressed[kind], tmp_path_factory.mktemp(f"{kind}-b"))
-    return Copies(kind, compressed[kind], first, second)
+    first = _filter(compressed_bags[kind], tmp_path_factory.mktemp(f"{kind}-a"))
+    second = _filter(compressed_bags[kind], tmp_path_factory.mktemp(f"{kind}-b"))
+    return Copies(kind, compressed_bags[kind], first, second)
 
 
 # Within a format -------------------------------------------------------------------------------
 
 
-def test_the_generated_sources_are_compressed_as_intended(compressed: dict[CompressedKind, Path]) -> None:
-    stored = {kind: stored_compression(path) for kind, path in compressed.items()}
+def test_the_generated_sources_are_compressed_as_intended(compressed_bags: dict[CompressedKind, Path]) -> None:
+    stored = {kind: stored_compression(path) for kind, path in compressed_bags.items()}
     assert stored == {kind: {c.value} for kind, c in COMPRESSION_OF.items()}
 
 
@@ -162,18 +159,18 @@ ACROSS = [
 
 @pytest.mark.parametrize(("kind", "fmt", "expected"), ACROSS)
 def test_a_compressed_source_converted_to_another_format_gets_that_formats_usual_compression(
-    compressed: dict[CompressedKind, Path],
+    compressed_bags: dict[CompressedKind, Path],
     tmp_path: Path,
     kind: CompressedKind,
     fmt: OutputFormat,
     expected: Compression,
 ) -> None:
-    result = _filter(compressed[kind], tmp_path, fmt=fmt)
+    result = _filter(compressed_bags[kind], tmp_path, fmt=fmt)
     source = COMPRESSION_OF[kind]
     assert result.compression is expected
     assert result.compression_note == f"{expected.label}, the {fmt.value} counterpart of the source's {source.label}"
     assert stored_compression(result.path) == {expected.value}
-    assert _speeds(result.path) == _speeds(compressed[kind])
+    assert _speeds(result.path) == _speeds(compressed_bags[kind])
 
 
 @pytest.mark.parametrize("fmt", tuple(f for f in OutputFormat if f is not OutputFormat.MCAP_JSON))
@@ -189,10 +186,10 @@ def test_an_uncompressed_source_stays_uncompressed_in_every_format(
 
 
 def test_the_last_progress_report_says_which_compression_was_used(
-    compressed: dict[CompressedKind, Path], tmp_path: Path
+    compressed_bags: dict[CompressedKind, Path], tmp_path: Path
 ) -> None:
     reports: list[str] = []
-    with open_bag(compressed["ros1-lz4"]) as bag:
+    with open_bag(compressed_bags["ros1-lz4"]) as bag:
         write_filtered(
             bag, tmp_path, "p", fmt=OutputFormat.ROS2_MCAP, spec=DROP, progress=lambda _f, m: reports.append(m)
         )
@@ -203,7 +200,7 @@ def test_the_last_progress_report_says_which_compression_was_used(
 
 @pytest.mark.parametrize("kind", COMPRESSED_KINDS)
 def test_cancelling_a_compressed_copy_leaves_nothing_behind(
-    compressed: dict[CompressedKind, Path], tmp_path: Path, kind: CompressedKind
+    compressed_bags: dict[CompressedKind, Path], tmp_path: Path, kind: CompressedKind
 ) -> None:
     polls: list[int] = []
 
@@ -211,7 +208,7 @@ def test_cancelling_a_compressed_copy_leaves_nothing_behind(
         polls.append(1)
         return len(polls) >= 4
 
-    with open_bag(compressed[kind]) as bag:
+    with open_bag(compressed_bags[kind]) as bag:
         fmt = default_output(bag.format, bag.connections)
         with pytest.raises(FilterCancelled):
             write_filtered(bag, tmp_path, "partial", fmt=fmt, spec=FilterSpec(), cancelled=cancelled)
