@@ -1,4 +1,4 @@
-"""ROS 1 chunk headers, and chunks decompressed within the memory budget.
+"""ROS 1 chunk headers, chunks decompressed within the memory budget, and the message records of a chunk.
 
 rosbags decompresses a whole chunk with ``bz2.decompress`` or ``lz4.frame.decompress`` to read a message
 from it, with no bound: bz2 turns a run of one byte into a few hundred bytes per gigabyte, so a chunk of a
@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import bz2
 import struct
-from collections.abc import Callable
+from collections.abc import Callable, Collection
 from pathlib import Path
 from typing import BinaryIO
 
@@ -19,6 +19,9 @@ import lz4.frame  # type: ignore[import-untyped]
 from rosbags.rosbag1.reader import Chunk
 
 from bagmcp_shared.budget import check_record, record_refused
+
+_U32 = struct.Struct("<I")
+_MSGDATA = b"\x02"  # the op of a message record
 
 
 def header_field(record: bytes, name: bytes) -> bytes:
@@ -58,7 +61,7 @@ def _bz2_streams(data: bytes, max_length: int) -> bytes:
     return bytes(out)
 
 
-def _bounded(compression: str, limit: int, where: str) -> Callable[[bytes], bytes]:
+def bounded_decompressor(compression: str, limit: int, where: str) -> Callable[[bytes], bytes]:
     def decompress(data: bytes) -> bytes:
         if compression == "bz2":
             out = _bz2_streams(data, limit + 1)
@@ -82,5 +85,45 @@ def bound_chunks(path: Path, chunks: dict[int, Chunk]) -> list[str]:
             if compression in ("bz2", "lz4"):
                 where = f"{path}: the {compression} chunk at byte {pos:,}"
                 limit = check_record(where, declared_bytes=declared, compressed_bytes=chunk.datasize)
-                chunks[pos] = chunk._replace(decompressor=_bounded(compression, limit, where))
+                chunks[pos] = chunk._replace(decompressor=bounded_decompressor(compression, limit, where))
     return names
+
+
+def message_records(raw: bytes, wanted: Collection[int]) -> list[tuple[int, int, int, bytes]]:
+    """(log time, offset, connection, bytes) of the messages of ``wanted`` in a decompressed chunk, in file order.
+
+    Parsed with struct on the bytes in place, not with rosbags' ``Header.read`` over a BytesIO: reading the
+    corpus's two_robots.bag (3.5 MB, 13,325 messages) whole by range took 42 ms instead of 151 ms (with the
+    bounds read once, see ``Ros1RangeSource.bounds``). Raises struct.error, KeyError or ValueError for a record
+    that does not parse or runs past the chunk's end."""
+    found: list[tuple[int, int, int, bytes]] = []
+    pos, end = 0, len(raw)
+    while pos < end:
+        (header_bytes,) = _U32.unpack_from(raw, pos)
+        fields_end = pos + 4 + header_bytes
+        (data_bytes,) = _U32.unpack_from(raw, fields_end)
+        data_at = fields_end + 4
+        if data_at + data_bytes > end:
+            raise ValueError(f"the record at byte {pos:,} of the chunk runs past its end")
+        fields = _fields(raw, pos + 4, fields_end)
+        if fields.get(b"op") == _MSGDATA and (conn_id := _U32.unpack_from(fields[b"conn"])[0]) in wanted:
+            secs, nsecs = struct.unpack("<II", fields[b"time"])
+            found.append((secs * 1_000_000_000 + nsecs, pos, conn_id, raw[data_at : data_at + data_bytes]))
+        pos = data_at + data_bytes
+    return found
+
+
+def _fields(raw: bytes, start: int, stop: int) -> dict[bytes, bytes]:
+    """A record header's ``name=value`` fields between ``start`` and ``stop``."""
+    fields: dict[bytes, bytes] = {}
+    while start < stop:
+        (size,) = _U32.unpack_from(raw, start)
+        start += 4
+        if start + size > stop:
+            raise ValueError("a header field runs past its header")
+        name, sep, value = raw[start : start + size].partition(b"=")
+        if not sep:
+            raise ValueError("a header field has no '='")
+        fields[name] = value
+        start += size
+    return fields

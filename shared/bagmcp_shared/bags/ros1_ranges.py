@@ -4,15 +4,15 @@ rosbags' reader opens a path and, at open, reads the message index records that 
 (touching the whole file). This source reads only the bag header, then the index section at its end
 (connection records and chunk infos: per chunk its position, time span and message count per
 connection), and later only the chunks whose span overlaps a question's window and that hold its
-connections (plain, bz2 or lz4, decompressed with rosbags' decompressors). Messages come out in log
-time order, ties in file order, as rosbags gives them. Record headers are parsed with rosbags' own
-``Header``.
+connections (plain, bz2 or lz4, decompressed within the memory budget as ``open_bag``'s chunks are).
+Messages come out in log time order, ties in file order, as rosbags gives them. The index's record headers
+are parsed with rosbags' own ``Header``; a chunk's records by ``ros1_chunks.message_records``.
 """
 
 from __future__ import annotations
 
 import heapq
-import io
+import struct
 from collections.abc import Callable, Collection, Iterator
 from dataclasses import dataclass, replace
 from itertools import pairwise
@@ -20,17 +20,19 @@ from pathlib import Path
 from typing import BinaryIO, TypeVar
 
 from rosbags.rosbag1 import ReaderError
-from rosbags.rosbag1.reader import Header, RecordType, decompressors, normalize, read_bytes, read_uint32
+from rosbags.rosbag1.reader import Header, RecordType, normalize, read_bytes, read_uint32
 from rosbags.typesys.msg import normalize_msgtype
 
 from bagmcp_shared.bags.models import Compression, Connection, Encoding, RawMessage
+from bagmcp_shared.bags.ros1_chunks import bounded_decompressor, message_records
 from bagmcp_shared.bags.source import ListedSource
+from bagmcp_shared.budget import check_record
 from bagmcp_shared.errors import DamagedBagError
 
 MAGIC = b"#ROSBAG V2.0\n"
 SAMPLED_CHUNKS = 3  # chunk headers that decide a stored object's compression (see Ros1RangeSource.compression)
 _T = TypeVar("_T")
-_ERRORS = (ReaderError, KeyError, ValueError, EOFError, AssertionError)
+_ERRORS = (ReaderError, KeyError, ValueError, EOFError, AssertionError, struct.error)
 
 
 @dataclass(frozen=True)
@@ -91,7 +93,7 @@ class Ros1RangeSource(ListedSource):
         if (hint := getattr(stream, "hint_records", None)) is not None:  # a chunk ends where the next starts
             starts = sorted(span.pos for span in self._chunks)
             hint(list(pairwise([*starts, self._index_pos])))  # no chunk: an empty list
-        self._bounds: dict[int, tuple[int, int] | None] = {}
+        self._bounds: dict[int, tuple[int, int] | None] | None = None
         self._compression: Compression | None = None
 
     def _read_index(self) -> tuple[list[Connection], list[ChunkSpan]]:
@@ -130,18 +132,33 @@ class Ros1RangeSource(ListedSource):
         return self._guarded(lambda: Header.read(self._stream, RecordType.CHUNK).get_string("compression"))
 
     def bounds(self, connection_id: int) -> tuple[int, int] | None:
-        """First and last log time of a connection: from the first and last chunk that hold it."""
-        if connection_id not in self._bounds:
-            holding = [span for span in self._chunks if span.counts.get(connection_id)]
-            if not holding:
-                self._bounds[connection_id] = None
-            else:
-                first = min(holding, key=lambda s: s.start_ns)
-                last = max(holding, key=lambda s: s.end_ns)
-                times_first = [t for t, _, _, _ in self._chunk_messages(first, {connection_id})]
-                times_last = [t for t, _, _, _ in self._chunk_messages(last, {connection_id})]
-                self._bounds[connection_id] = (min(times_first), max(times_last))
-        return self._bounds[connection_id]
+        """First and last log time of a connection: from the first and last chunk that hold it. Every
+        connection's are found on the first call (a reader's summary asks for all of them), each chunk parsed
+        once for all the connections it starts or ends, not once per connection: the corpus's example-bz2.bag
+        (8,647 messages) decompressed its bz2 chunks again for each connection, 596 ms to read it whole against
+        63 ms now."""
+        if self._bounds is None:
+            self._bounds = self._all_bounds()
+        return self._bounds.get(connection_id)
+
+    def _all_bounds(self) -> dict[int, tuple[int, int] | None]:
+        ends: dict[int, tuple[ChunkSpan, ChunkSpan]] = {}
+        for conn in self._connections:
+            holding = [span for span in self._chunks if span.counts.get(conn.id)]
+            if holding:
+                ends[conn.id] = (min(holding, key=lambda s: s.start_ns), max(holding, key=lambda s: s.end_ns))
+        wanted: dict[int, tuple[ChunkSpan, set[int]]] = {}
+        for conn_id, pair in ends.items():
+            for span in pair:
+                wanted.setdefault(span.pos, (span, set()))[1].add(conn_id)
+        times: dict[tuple[int, int], list[int]] = {}
+        for pos, (span, conn_ids) in sorted(wanted.items()):
+            for t, _, cid, _ in self._chunk_messages(span, conn_ids):
+                times.setdefault((pos, cid), []).append(t)
+        found: dict[int, tuple[int, int] | None] = {c.id: None for c in self._connections}
+        for conn_id, (first, last) in ends.items():
+            found[conn_id] = (min(times[first.pos, conn_id]), max(times[last.pos, conn_id]))
+        return found
 
     def messages(
         self, connection_ids: Collection[int], *, start_ns: int | None, stop_ns: int | None
@@ -164,23 +181,24 @@ class Ros1RangeSource(ListedSource):
                 if (start_ns is None or t >= start_ns) and (stop_ns is None or t < stop_ns):
                     heapq.heappush(queue, (t, rank[cid], span.pos, offset, cid, payload, None))
 
-    def _chunk_messages(self, span: ChunkSpan, wanted: set[int]) -> list[tuple[int, int, int, bytes]]:
+    def _chunk_messages(self, span: ChunkSpan, wanted: Collection[int]) -> list[tuple[int, int, int, bytes]]:
         """(log time, offset, connection, bytes) of the messages of ``wanted`` in one chunk."""
-        return self._guarded(lambda: list(self._parse_chunk(span, wanted)))
+        return self._guarded(lambda: message_records(self._chunk_bytes(span), wanted))
 
-    def _parse_chunk(self, span: ChunkSpan, wanted: set[int]) -> Iterator[tuple[int, int, int, bytes]]:
+    def _chunk_bytes(self, span: ChunkSpan) -> bytes:
+        """A chunk's records decompressed, within the memory budget as every reader's chunks are (see
+        ``ros1_chunks``): its declared size is checked first, and a size that lies stops at the limit."""
         self._stream.seek(span.pos)
         header = Header.read(self._stream, RecordType.CHUNK)
-        decompress = decompressors[header.get_string("compression")]
-        raw = decompress(read_bytes(self._stream, read_uint32(self._stream)))
-        records = io.BytesIO(raw)
-        while (offset := records.tell()) < len(raw):
-            record = Header.read(records)
-            size = read_uint32(records)
-            if record.get_uint8("op") == RecordType.MSGDATA and (conn_id := record.get_uint32("conn")) in wanted:
-                yield record.get_time("time"), offset, conn_id, read_bytes(records, size)
-            else:
-                records.seek(size, io.SEEK_CUR)
+        compression = header.get_string("compression")
+        data = read_bytes(self._stream, read_uint32(self._stream))
+        if compression == "none":
+            return data
+        if compression not in ("bz2", "lz4"):
+            raise ReaderError(f"the chunk at byte {span.pos:,} has unknown compression {compression!r}")
+        where = f"{self._name}: the {compression} chunk at byte {span.pos:,}"
+        limit = check_record(where, declared_bytes=header.get_uint32("size"), compressed_bytes=len(data))
+        return bounded_decompressor(compression, limit, where)(data)
 
     def _guarded(self, read: Callable[[], _T]) -> _T:
         try:

@@ -197,3 +197,30 @@ def test_a_ranged_mcap_is_still_refused_when_its_index_declares_too_much(tmp_pat
     stream = _RangedLike(path.read_bytes())
     with pytest.raises(UnsupportedFormatError, match=r"bomb\.mcap: the zstd chunk at byte 36 declares 4,194,"):
         open_stream(path, stream, size=path.stat().st_size, fmt=BagFormat.MCAP)
+
+
+def test_a_ranged_ros1_chunk_past_the_budget_is_refused(tmp_path: Path, small_budget: None) -> None:
+    """Team mode reads ROS 1 by range (``Ros1RangeSource``), which decompressed chunks with no bound before."""
+    path = write_ros1_chunk_bomb(tmp_path, expanded=EXPANDED)
+    with (
+        open_stream(path, _RangedLike(path.read_bytes()), size=path.stat().st_size, fmt=BagFormat.ROS1) as bag,
+        pytest.raises(UnsupportedFormatError, match=r"the bz2 chunk at byte 4,109 declares 4,19"),
+    ):
+        list(bag.messages())
+
+
+def test_a_ranged_ros1_chunk_that_lies_about_its_size_stops_at_the_budget(tmp_path: Path, small_budget: None) -> None:
+    path = write_ros1_chunk_bomb(tmp_path, expanded=EXPANDED, declared=1000)
+    with (
+        open_stream(path, _RangedLike(path.read_bytes()), size=path.stat().st_size, fmt=BagFormat.ROS1) as bag,
+        pytest.raises(UnsupportedFormatError, match="holds more than 1,048,576 bytes uncompressed"),
+    ):
+        bag.summary()  # the first and last times of each topic are read from its first and last chunks
+
+
+def test_a_ranged_ros1_chunk_within_the_budget_is_read_whole(tmp_path: Path) -> None:
+    path = write_ros1_chunk_bomb(tmp_path, expanded=EXPANDED)
+    stream = _RangedLike(path.read_bytes())
+    with open_stream(path, stream, size=path.stat().st_size, fmt=BagFormat.ROS1) as bag:
+        (message,) = list(bag.messages())
+        assert bag.decode(message).data == "a" * EXPANDED  # type: ignore[attr-defined]

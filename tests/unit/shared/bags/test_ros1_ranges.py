@@ -6,6 +6,7 @@ read from a file that takes the chunks' spans as hints (as the object store's ra
 from __future__ import annotations
 
 import io
+import struct
 from pathlib import Path
 
 import pytest
@@ -101,6 +102,36 @@ def test_a_stored_objects_compression_reads_three_chunks_not_every_one(tmp_path:
     finally:
         ranged.close()
         local.close()
+
+
+@pytest.mark.parametrize(
+    ("what", "at", "value"),
+    [
+        ("a record header longer than the chunk", 0, 0xFFFF_FFF0),  # the first record's header length
+        ("a header field longer than its header", 4, 0xFFFF_FFF0),  # its first field's length
+        ("a header field without '='", 8, None),  # the first field's name and value, '=' made '-'
+    ],
+)
+def test_a_chunk_whose_records_do_not_parse_is_damaged_and_named(
+    tmp_path: Path, what: str, at: int, value: int | None
+) -> None:
+    """A chunk's records are parsed by hand (``message_records``); any record that does not parse ends the read
+    in a sentence naming the bag, as rosbags' ``Header`` did."""
+    path = write_bag("ros1", tmp_path)  # uncompressed chunks: the records lie in the file as they are
+    data = bytearray(path.read_bytes())
+    first = Ros1RangeSource(path, io.BytesIO(bytes(data)))._chunks[0].pos
+    (header_bytes,) = struct.unpack_from("<I", data, first)
+    records = first + 4 + header_bytes + 4
+    if value is None:
+        (size,) = struct.unpack_from("<I", data, records + 4)
+        field = records + at
+        data[field : field + size] = data[field : field + size].replace(b"=", b"-")
+    else:
+        struct.pack_into("<I", data, records + at, value)
+    ranged = Ros1RangeSource(path, io.BytesIO(bytes(data)))
+    ids = [c.id for c in ranged.connections]
+    with pytest.raises(DamagedBagError, match=rf"{path.name}: a chunk could not be read"):
+        list(ranged.messages(ids, start_ns=None, stop_ns=None))
 
 
 def test_a_bag_whose_index_is_cut_off_is_damaged_and_named(corpus: Path) -> None:
