@@ -37,11 +37,13 @@ class CountingFile(io.FileIO):
     def __init__(self, path: Path) -> None:
         super().__init__(path, "rb")
         self.read_bytes = 0
+        self.read_at: list[int] = []
         self.fail_past: int | None = None
 
     def read(self, size: int | None = -1, /) -> bytes:
         if self.fail_past is not None and self.tell() > self.fail_past:
             raise DamagedBagError("bag pages changed in the object store after it was catalogued (a test)")
+        self.read_at.append(self.tell())
         data = super().read(size)
         self.read_bytes += len(data)
         return data
@@ -107,6 +109,20 @@ def test_with_the_catalogs_stats_a_point_read_reads_a_few_pages_not_the_file(tmp
     unknown, scanned = streamed(directory, known=False)
     with unknown:
         assert scanned.read_bytes >= size * 0.9  # without them, counting per topic reads every row
+
+
+def test_with_the_catalogs_stats_opening_reads_no_page_of_the_messages_table(tmp_path: Path) -> None:
+    """Each page of the messages table or its index read on opening was a round trip to the object store before
+    any answer (a root, then the first row's leaf: pages far apart in a large file)."""
+    directory = write_db3(tmp_path / "pages", count=20_000, pad=300)
+    with sqlite3.connect(next(directory.glob("*.db3"))) as db:
+        roots = {row[0] for row in db.execute("SELECT rootpage FROM sqlite_master WHERE tbl_name = 'messages'")}
+    reader, stream = streamed(directory, known=True)
+    with reader:
+        opened = {at // 4096 + 1 for at in stream.read_at}  # SQLite numbers pages from 1
+        assert 1 in opened  # the schema
+        assert not opened & roots, f"pages read on opening: {sorted(opened)}, the messages b-trees' roots: {roots}"
+        assert {t.name for t in reader.summary().topics} == {"/pose", "/status"}
 
 
 def test_totals_that_lack_a_topic_do_not_stand_for_the_files_counts(tmp_path: Path) -> None:
