@@ -157,8 +157,17 @@ class Ros1RangeSource(ListedSource):
                 times.setdefault((pos, cid), []).append(t)
         found: dict[int, tuple[int, int] | None] = {c.id: None for c in self._connections}
         for conn_id, (first, last) in ends.items():
-            found[conn_id] = (min(times[first.pos, conn_id]), max(times[last.pos, conn_id]))
+            found[conn_id] = (min(self._held(times, first, conn_id)), max(self._held(times, last, conn_id)))
         return found
+
+    def _held(self, times: dict[tuple[int, int], list[int]], span: ChunkSpan, conn_id: int) -> list[int]:
+        if not (held := times.get((span.pos, conn_id))):
+            topic = self._by_id[conn_id].topic
+            raise DamagedBagError(
+                f"{self._name}: the index says the chunk at byte {span.pos:,} holds messages of {topic}, but it "
+                "holds none; `rosbag reindex` may repair it"
+            )
+        return held
 
     def messages(
         self, connection_ids: Collection[int], *, start_ns: int | None, stop_ns: int | None

@@ -10,13 +10,18 @@ import struct
 from pathlib import Path
 
 import pytest
+from rosbags.rosbag1 import Writer
+from rosbags.typesys import Stores, get_typestore
 
+from bagmcp_shared.bags.ros1_chunks import header_field
 from bagmcp_shared.bags.ros1_ranges import Ros1RangeSource
 from bagmcp_shared.bags.ros1_source import Ros1Source
 from bagmcp_shared.errors import DamagedBagError
 from tests.fixtures.bagfactory import write_bag
 from tests.fixtures.drive_bags import write_drive_bag
+from tests.fixtures.hostile_inputs import ros1_records
 
+STRING = "std_msgs/msg/String"
 RECORDED = [
     "ros1/rosout_log/out.bag",
     "ros1/evo_tf/tf_example.bag",
@@ -132,6 +137,28 @@ def test_a_chunk_whose_records_do_not_parse_is_damaged_and_named(
     ids = [c.id for c in ranged.connections]
     with pytest.raises(DamagedBagError, match=rf"{path.name}: a chunk could not be read"):
         list(ranged.messages(ids, start_ns=None, stop_ns=None))
+
+
+def test_an_index_that_places_a_topic_in_a_chunk_without_it_is_damaged_and_named(tmp_path: Path) -> None:
+    """The bounds of a topic come from the first and last chunks the index says hold it; a chunk that holds none
+    of its messages is a sentence naming the bag, the chunk and the topic."""
+    store = get_typestore(Stores.ROS1_NOETIC)
+    path = tmp_path / "idle.bag"
+    with Writer(path) as writer:
+        talk = writer.add_connection("/talk", STRING, typestore=store)
+        writer.add_connection("/idle", STRING, typestore=store)  # no message: in no chunk
+        message = store.serialize_ros1(store.types[STRING](data="x"), STRING)
+        for second in (1, 2, 3):
+            writer.write(talk, second * 10**9, message)
+    data = bytearray(path.read_bytes())
+    index_at = Ros1RangeSource(path, io.BytesIO(bytes(data)))._index_pos
+    at, header, _ = next(r for r in ros1_records(bytes(data), index_at) if header_field(r[1], b"op") == b"\x06")
+    struct.pack_into("<I", data, at + 4 + len(header) + 4, 1)  # the chunk info's first pair: /talk's, now /idle's
+    ranged = Ros1RangeSource(path, io.BytesIO(bytes(data)))
+    with pytest.raises(
+        DamagedBagError, match=r"idle\.bag: the index says the chunk at byte 4,109 holds messages of /idle"
+    ):
+        ranged.bounds(1)
 
 
 def test_a_bag_whose_index_is_cut_off_is_damaged_and_named(corpus: Path) -> None:
