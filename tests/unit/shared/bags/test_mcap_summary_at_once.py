@@ -138,6 +138,21 @@ def damaged(many_chunks: Path) -> Iterator[tuple[str, bytes]]:
     yield "summary start at the footer", with_summary_start(data, at)
     yield "the summary's last record cut", data[: at - 5] + data[at:]
     yield "only the header", data[:41]
+    index = _first_chunk_index(data, summary_start) + 9  # its content: four u64 fields, then the offsets' bytes
+    offsets_bytes = int.from_bytes(data[index + 32 : index + 36], "little")
+    yield (
+        "chunk index offsets not whole",
+        data[: index + 32] + (offsets_bytes - 5).to_bytes(4, "little") + data[index + 36 :],
+    )
+    name_at = index + 36 + offsets_bytes + 8
+    yield "chunk index name past it", data[:name_at] + (1 << 20).to_bytes(4, "little") + data[name_at + 4 :]
+
+
+def _first_chunk_index(data: bytes, at: int) -> int:
+    """Where the first chunk index record of the summary starting at ``at`` begins."""
+    while data[at] != 0x08:
+        at += 9 + int.from_bytes(data[at + 1 : at + 9], "little")
+    return at
 
 
 def test_a_file_without_a_summary_opens_as_before(
