@@ -85,13 +85,13 @@ class OpenBag(_Catalogued):
 
     def nearest(self, topic: str, stamp_ns: int) -> RawMessage:
         """The message of ``topic`` whose log time is nearest ``stamp_ns``, reading only around it: a window of
-        one average period either side (about two messages of a regular topic; the nearest in a window that
-        holds any is the nearest of all), four times wider while it holds none. Two periods either side read three
-        or four: a cold image read from the object store fetched 16 MB where a 2 MB chunk held the answer."""
+        half an average period either side (one message of a regular topic; the nearest in a window that holds
+        any is the nearest of all), four times wider while it holds none. Two periods either side read three or
+        four: a cold image read from the object store fetched 16 MB where one 2 MB chunk held the answer."""
         stats = self.topic(topic)
         if not stats.count:
             raise ArgumentError(f"topic {topic} has no messages in bag {self.record.name}")
-        radius = max(max(self.end_ns - self.start_ns, 1) // stats.count, 1_000_000)
+        radius = max(max(self.end_ns - self.start_ns, 1) // stats.count // 2, 1_000_000)
         while True:
             window = list(self.reader.messages([topic], start_ns=stamp_ns - radius, stop_ns=stamp_ns + radius + 1))
             if window:
