@@ -12,7 +12,7 @@ from bagmcp_shared.access.files import BagFiles
 from bagmcp_shared.access.readers import ReaderCache
 from bagmcp_shared.bags import BagReader, RawMessage
 from bagmcp_shared.catalog import BagRecord, Catalog, CatalogSummary, TopicStats, ready_record, resolve_bag
-from bagmcp_shared.errors import ArgumentError, BagmcpError, TimeError, TopicNotFoundError
+from bagmcp_shared.errors import ArgumentError, BagmcpError, DamagedBagError, TimeError, TopicNotFoundError
 from bagmcp_shared.index import ColumnIndex
 from bagmcp_shared.timebase import Instant, TimeInput, iso_from_ns, parse_time
 
@@ -85,9 +85,11 @@ class OpenBag(_Catalogued):
 
     def nearest(self, topic: str, stamp_ns: int) -> RawMessage:
         """The message of ``topic`` whose log time is nearest ``stamp_ns``, reading only around it: a window of
-        half an average period either side (one message of a regular topic; the nearest in a window that holds
-        any is the nearest of all), four times wider while it holds none. Two periods either side read three or
-        four: a cold image read from the object store fetched 16 MB where one 2 MB chunk held the answer."""
+        half an average period either side (one message of a regular topic below 500 Hz, where the 1 ms floor
+        starts; the nearest in a window that holds any is the nearest of all), four times wider while it holds
+        none. Two periods either side read three or four: a cold image read from the object store fetched 16 MB
+        where one 2 MB chunk held the answer. A window over the whole bag that holds none is a damaged bag (the
+        catalog counts messages the file no longer gives), not a search without end."""
         stats = self.topic(topic)
         if not stats.count:
             raise ArgumentError(f"topic {topic} has no messages in bag {self.record.name}")
@@ -96,6 +98,11 @@ class OpenBag(_Catalogued):
             window = list(self.reader.messages([topic], start_ns=stamp_ns - radius, stop_ns=stamp_ns + radius + 1))
             if window:
                 return min(window, key=lambda m: abs(m.log_time_ns - stamp_ns))
+            if stamp_ns - radius <= self.start_ns and stamp_ns + radius >= self.end_ns:
+                raise DamagedBagError(
+                    f"bag {self.record.name}: the catalog counts {stats.count:,} messages of {topic}, but the bag "
+                    "gives none; it may have been damaged since it was ingested: delete it and upload it again"
+                )
             radius *= 4
 
     def instant(self, stamp_ns: int) -> Instant:

@@ -28,7 +28,6 @@ from mcap.records import (
     Attachment,
     AttachmentIndex,
     Channel,
-    Chunk,
     ChunkIndex,
     DataEnd,
     Footer,
@@ -57,12 +56,12 @@ _RECORD_HEAD = struct.Struct("<BQ")  # opcode, content length
 _CHUNK_INDEX_HEAD = struct.Struct("<QQQQI")  # start and end times, chunk offset and length, offsets' bytes
 _OFFSET = struct.Struct("<HQ")  # channel id, message index offset
 # Every other record the library knows, parsed by its own record class (a record the summary does not keep is
-# still parsed, so bytes the library refused are refused here too); a message's read also takes its length.
+# still parsed, so bytes the library refused are refused here too); a message's read also takes its length. A
+# chunk, which the spec keeps out of the summary, is left to the library (it would read the records inside).
 _LIBRARY: dict[int, type[McapRecord]] = {
     Opcode.ATTACHMENT: Attachment,
     Opcode.ATTACHMENT_INDEX: AttachmentIndex,
     Opcode.CHANNEL: Channel,
-    Opcode.CHUNK: Chunk,
     Opcode.DATA_END: DataEnd,
     Opcode.FOOTER: Footer,
     Opcode.HEADER: Header,
@@ -111,6 +110,8 @@ def _collected(section: bytes, record_size_limit: int | None) -> Summary | None:
         if opcode == Opcode.CHUNK_INDEX:
             summary.chunk_indexes.append(_chunk_index(content))
             continue
+        if opcode == Opcode.CHUNK:
+            raise _NotAtOnceError
         record = _library_record(opcode, content)
         if isinstance(record, Statistics):
             summary.statistics = record

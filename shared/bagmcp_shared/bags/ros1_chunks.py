@@ -62,16 +62,27 @@ def _bz2_streams(data: bytes, max_length: int) -> bytes:
 
 
 def bounded_decompressor(compression: str, limit: int, where: str) -> Callable[[bytes], bytes]:
+    """A decompressor of ``compression`` (bz2 or lz4) chunks that stops past ``limit`` bytes, refusing the chunk
+    (``where`` names it), and raises EOFError for data cut short, as ``bz2.decompress`` and
+    ``lz4.frame.decompress`` do."""
+
     def decompress(data: bytes) -> bytes:
-        if compression == "bz2":
-            out = _bz2_streams(data, limit + 1)
-        else:
-            out = bytes(lz4.frame.LZ4FrameDecompressor().decompress(data, max_length=limit + 1))
+        out = _bz2_streams(data, limit + 1) if compression == "bz2" else _lz4_frame(data, limit + 1)
         if len(out) > limit:
             raise record_refused(where, f"holds more than {limit:,} bytes uncompressed in {len(data):,} compressed")
         return out
 
     return decompress
+
+
+def _lz4_frame(data: bytes, max_length: int) -> bytes:
+    """An lz4 frame decompressed up to ``max_length`` bytes; EOFError for a frame cut short (the streaming
+    decompressor returns what it has without a word, where ``lz4.frame.decompress`` raised)."""
+    decompressor = lz4.frame.LZ4FrameDecompressor()
+    out = bytes(decompressor.decompress(data, max_length=max_length))
+    if not decompressor.eof and len(out) < max_length:
+        raise EOFError("the lz4 frame ended before its end mark")
+    return out
 
 
 def bound_chunks(path: Path, chunks: dict[int, Chunk]) -> list[str]:
@@ -106,7 +117,9 @@ def message_records(raw: bytes, wanted: Collection[int]) -> list[tuple[int, int,
         if data_at + data_bytes > end:
             raise ValueError(f"the record at byte {pos:,} of the chunk runs past its end")
         fields = _fields(raw, pos + 4, fields_end)
-        if fields.get(b"op") == _MSGDATA and (conn_id := _U32.unpack_from(fields[b"conn"])[0]) in wanted:
+        if len(op := fields[b"op"]) != 1:
+            raise ValueError(f"the record at byte {pos:,} of the chunk has an op field of {len(op)} bytes")
+        if op == _MSGDATA and (conn_id := _U32.unpack_from(fields[b"conn"])[0]) in wanted:
             secs, nsecs = struct.unpack("<II", fields[b"time"])
             found.append((secs * 1_000_000_000 + nsecs, pos, conn_id, raw[data_at : data_at + data_bytes]))
         pos = data_at + data_bytes

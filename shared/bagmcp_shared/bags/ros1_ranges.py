@@ -142,6 +142,8 @@ class Ros1RangeSource(ListedSource):
         return self._bounds.get(connection_id)
 
     def _all_bounds(self) -> dict[int, tuple[int, int] | None]:
+        """Each connection's bounds from the chunks that start or end it, each chunk parsed once. Nothing is kept
+        when a chunk cannot be read: the cause may be the object store's, gone by the next call."""
         ends: dict[int, tuple[ChunkSpan, ChunkSpan]] = {}
         for conn in self._connections:
             holding = [span for span in self._chunks if span.counts.get(conn.id)]
@@ -161,6 +163,7 @@ class Ros1RangeSource(ListedSource):
         return found
 
     def _held(self, times: dict[tuple[int, int], list[int]], span: ChunkSpan, conn_id: int) -> list[int]:
+        """The log times of ``conn_id`` in ``span``, which the index says holds some."""
         if not (held := times.get((span.pos, conn_id))):
             topic = self._by_id[conn_id].topic
             raise DamagedBagError(

@@ -10,6 +10,7 @@ from collections.abc import Iterator
 import pytest
 
 from bagmcp_shared.bags import RawMessage
+from bagmcp_shared.errors import DamagedBagError
 from tests.fixtures.inprocess import InProcess
 
 
@@ -42,10 +43,23 @@ def test_a_regular_topic_reads_one_message_the_nearest(
                 assert len(read) == 1, f"{len(read)} messages read around {stamp}"
 
 
-def test_a_time_far_from_any_message_widens_the_window_until_it_finds_the_nearest(served_drive: InProcess) -> None:
+def test_every_topic_gives_its_nearest_message_at_the_bags_start_middle_and_end(served_drive: InProcess) -> None:
+    """Topics that start late or end early need the window widened at the bag's ends."""
     access = served_drive.composition.embedded.resources.access
     with access.open("drive") as bag:
         for topic in (t.name for t in bag.summary.topics if t.count):
             times = [m.log_time_ns for m in bag.reader.messages([topic])]
             for stamp in (bag.start_ns, (bag.start_ns + bag.end_ns) // 2 + 1, bag.end_ns):
                 assert bag.nearest(topic, stamp).log_time_ns == _nearest_of(times, stamp), topic
+
+
+def test_a_topic_the_bag_no_longer_gives_is_a_damaged_bag_not_a_search_without_end(
+    served_drive: InProcess, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The catalog counts /odom's messages; a reader that finds none (a file damaged since ingest) widened the
+    window for ever before."""
+    access = served_drive.composition.embedded.resources.access
+    with access.open("drive_db3") as bag:
+        monkeypatch.setattr(bag.reader, "messages", lambda *args, **kwargs: iter(()))
+        with pytest.raises(DamagedBagError, match=r"bag drive_db3: the catalog counts [\d,]+ messages of /odom, but"):
+            bag.nearest("/odom", (bag.start_ns + bag.end_ns) // 2)

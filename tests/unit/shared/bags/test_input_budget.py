@@ -5,17 +5,20 @@ run in tests/integration/test_memory_capped.py, in a process whose address space
 
 from __future__ import annotations
 
+import bz2
 import io
 import sqlite3
 import tracemalloc
 from pathlib import Path
 
+import lz4.frame  # type: ignore[import-untyped]
 import pytest
 import zstandard
 from mcap.writer import CompressionType, Writer
 
 from bagmcp_shared import budget
 from bagmcp_shared.bags import BagFormat, open_bag, open_stream
+from bagmcp_shared.bags.ros1_chunks import bounded_decompressor
 from bagmcp_shared.bags.user_yaml import UserYamlError, load_user_yaml, refuse_aliases
 from bagmcp_shared.errors import UnsupportedFormatError
 from bagmcp_shared.settings import InputBudget
@@ -224,3 +227,14 @@ def test_a_ranged_ros1_chunk_within_the_budget_is_read_whole(tmp_path: Path) -> 
     with open_stream(path, stream, size=path.stat().st_size, fmt=BagFormat.ROS1) as bag:
         (message,) = list(bag.messages())
         assert bag.decode(message).data == "a" * EXPANDED  # type: ignore[attr-defined]
+
+
+@pytest.mark.parametrize("compression", ["lz4", "bz2"])
+def test_a_chunk_cut_short_is_an_error_not_fewer_records(compression: str) -> None:
+    """The streaming lz4 decompressor returns what a cut frame holds without a word; lz4.frame.decompress, which
+    ranged reads used before, raised. A cut chunk must not read as a chunk with fewer messages."""
+    whole = (lz4.frame.compress if compression == "lz4" else bz2.compress)(bytes(range(256)) * 4096)
+    decompress = bounded_decompressor(compression, 4 << 20, "x.bag: the chunk at byte 0")
+    assert decompress(whole) == bytes(range(256)) * 4096
+    with pytest.raises(EOFError):
+        decompress(whole[: len(whole) // 2])

@@ -115,10 +115,11 @@ def test_a_stored_objects_compression_reads_three_chunks_not_every_one(tmp_path:
         ("a record header longer than the chunk", 0, 0xFFFF_FFF0),  # the first record's header length
         ("a header field longer than its header", 4, 0xFFFF_FFF0),  # its first field's length
         ("a header field without '='", 8, None),  # the first field's name and value, '=' made '-'
+        ("a record without an op field", 8, b"op="),  # its op field's name made another
     ],
 )
 def test_a_chunk_whose_records_do_not_parse_is_damaged_and_named(
-    tmp_path: Path, what: str, at: int, value: int | None
+    tmp_path: Path, what: str, at: int, value: int | bytes | None
 ) -> None:
     """A chunk's records are parsed by hand (``message_records``); any record that does not parse ends the read
     in a sentence naming the bag, as rosbags' ``Header`` did."""
@@ -127,10 +128,15 @@ def test_a_chunk_whose_records_do_not_parse_is_damaged_and_named(
     first = Ros1RangeSource(path, io.BytesIO(bytes(data)))._chunks[0].pos
     (header_bytes,) = struct.unpack_from("<I", data, first)
     records = first + 4 + header_bytes + 4
+    (header_bytes_of_record,) = struct.unpack_from("<I", data, records)
+    header = slice(records + 4, records + 4 + header_bytes_of_record)
     if value is None:
         (size,) = struct.unpack_from("<I", data, records + 4)
         field = records + at
         data[field : field + size] = data[field : field + size].replace(b"=", b"-")
+    elif isinstance(value, bytes):
+        assert value in data[header]
+        data[header] = data[header].replace(value, b"oq=")
     else:
         struct.pack_into("<I", data, records + at, value)
     ranged = Ros1RangeSource(path, io.BytesIO(bytes(data)))
