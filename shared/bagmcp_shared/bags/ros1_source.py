@@ -54,7 +54,7 @@ class Ros1Source(ListedSource):
         self._path = path
         try:
             chunk_names = bound_chunks(path, self._reader.chunks)
-        except (OSError, struct.error) as err:
+        except (OSError, struct.error, ValueError) as err:
             self._reader.close()
             raise DamagedBagError(f"{path}: a chunk header could not be read ({err})") from err
         except BagError:

@@ -18,7 +18,7 @@ from mcap.writer import CompressionType, Writer
 
 from bagmcp_shared import budget
 from bagmcp_shared.bags import BagFormat, open_bag, open_stream
-from bagmcp_shared.bags.ros1_chunks import bounded_decompressor
+from bagmcp_shared.bags.ros1_chunks import chunk_decompressor
 from bagmcp_shared.bags.user_yaml import UserYamlError, load_user_yaml, refuse_aliases
 from bagmcp_shared.errors import UnsupportedFormatError
 from bagmcp_shared.settings import InputBudget
@@ -234,7 +234,7 @@ def test_a_chunk_cut_short_is_an_error_not_fewer_records(compression: str) -> No
     """The streaming lz4 decompressor returns what a cut frame holds without a word; lz4.frame.decompress, which
     ranged reads used before, raised. A cut chunk must not read as a chunk with fewer messages."""
     whole = (lz4.frame.compress if compression == "lz4" else bz2.compress)(bytes(range(256)) * 4096)
-    decompress = bounded_decompressor(compression, 4 << 20, "x.bag: the chunk at byte 0")
+    decompress = chunk_decompressor(Path("x.bag"), 0, compression, declared=4 << 20, compressed=len(whole))
     assert decompress(whole) == bytes(range(256)) * 4096
     with pytest.raises(EOFError):
         decompress(whole[: len(whole) // 2])
